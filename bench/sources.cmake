@@ -1,0 +1,4 @@
+# Each area's benchmarks live in bench/<area>/ with their own sources.cmake.
+foreach(area scene geometry kdtree render)
+  include(bench/${area}/sources.cmake OPTIONAL)
+endforeach()

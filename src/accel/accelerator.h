@@ -1,0 +1,53 @@
+// Pipeline: acceleration. The one interface both backends (Embree and the
+// kd-tree) implement over the same primitives. Nothing outside src/accel/
+// sees Embree types.
+#pragma once
+
+#include "geometry/hit.h"
+#include "math/ray.h"
+#include "scene/scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace lray {
+
+enum class BackendKind { Embree, KdTree };
+
+/// "embree" / "kdtree".
+std::string backendName(BackendKind kind);
+
+/// Build-time figures reported by --stats.
+struct AcceleratorStats {
+  double buildSeconds = 0;
+  size_t memoryBytes = 0;  ///< acceleration structure + geometry it owns
+  size_t primitives = 0;   ///< analytic shapes + triangles (instanced triangles counted once)
+  size_t instances = 0;
+};
+
+/// Closest-hit and any-hit queries over one frame's scene. Implementations
+/// are `final`, so the integrator (a template over the concrete type) calls
+/// them without virtual dispatch. Thread-safe for concurrent queries.
+class Accelerator {
+public:
+  virtual ~Accelerator() = default;
+
+  /// Closest hit with t in (ray.tMin, ray.tMax); fills `hit` and returns true.
+  virtual bool intersect(const Ray &ray, Hit &hit) const = 0;
+  /// True if anything lies with t in (ray.tMin, ray.tMax).
+  virtual bool occluded(const Ray &ray) const = 0;
+  /// Coherent batch (e.g. the camera rays of a tile): found[i] = 1 and
+  /// hits[i] filled where ray i hits. Embree uses 8-wide packets here.
+  virtual void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const = 0;
+  /// Coherent batch of occlusion queries: occluded[i] = 1 where blocked.
+  virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const = 0;
+
+  virtual AcceleratorStats stats() const = 0;
+};
+
+/// Builds the chosen backend over `scene` (which must outlive the result).
+std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene);
+
+} // namespace lray

@@ -1,0 +1,37 @@
+// Pipeline: geometry. The shapes' own intersection code, shared by both
+// backends: Embree's user-geometry callbacks and the kd-tree both call these,
+// so the two cannot disagree about a shape.
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/hit.h"
+#include "math/ray.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+
+namespace lray {
+
+/// Tight world-space bounds of an analytic entity (Sphere, Cylinder, Cone, Cube).
+Bounds3 shapeWorldBounds(const Entity &entity);
+
+/// Closest intersection of a world-space ray with an analytic entity, with t
+/// in (ray.tMin, ray.tMax). On success fills every field of `hit` (entity =
+/// entityIndex) and returns true.
+bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit);
+
+/// Any intersection with t in (ray.tMin, ray.tMax).
+bool occludedShape(const Entity &entity, const Ray &worldRay);
+
+/// Object-space bounds of a mesh (positions as stored).
+Bounds3 meshObjectBounds(const MeshData &mesh);
+
+/// Fills `hit` for triangle `triangle` of mesh entity `entity` hit at
+/// parameter t of the world ray, with barycentrics (b1, b2) of corners 1 and 2
+/// (corner 0 has 1 - b1 - b2): interpolated normals when smooth, uvs
+/// (given or the default per-triangle mapping), object and world points.
+/// Used by both backends after their triangle test.
+void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
+                     double b1, double b2, const Ray &worldRay, Hit &hit);
+
+} // namespace lray

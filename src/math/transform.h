@@ -1,0 +1,69 @@
+// Pipeline: shared math. Affine transforms (double precision) with their
+// inverses; named destination-from-source where stored (worldFromObject).
+#pragma once
+
+#include "math/ray.h"
+#include "math/vec3.h"
+
+#include <array>
+#include <string>
+
+namespace lray {
+
+/// A row-major 4x4 matrix; affine transforms use only the top three rows.
+struct Mat4 {
+  std::array<std::array<double, 4>, 4> m{};
+
+  static Mat4 identity();
+  Mat4 operator*(const Mat4 &o) const;
+  /// Determinant of the upper-left 3x3 block (the linear part).
+  double det3() const;
+  bool operator==(const Mat4 &o) const { return m == o.m; }
+};
+
+/// An invertible affine transform. Construction never yields NaN: the
+/// factories below report a singular matrix through `singular()`, and the
+/// scene layer turns that into a SceneError at the script line.
+class Transform {
+public:
+  Transform() = default; // identity
+
+  static Transform identity() { return {}; }
+  static Transform translate(const Vec3 &v);
+  static Transform scale(double sx, double sy, double sz);
+  /// Rotation by `degrees` about `axis` (normalised first); right-hand rule
+  /// in the math sense: rotate(z, 90) takes +x to +y, rotate(y, 90) takes +x to -z.
+  /// A zero axis gives a singular transform.
+  static Transform rotate(const Vec3 &axis, double degrees);
+  /// Moves the origin to `pos` with +z pointing at `at` and +y towards `up`.
+  /// `up` parallel to at - pos (or at == pos) gives a singular transform.
+  static Transform lookAt(const Vec3 &pos, const Vec3 &at, const Vec3 &up);
+  /// From a matrix; marks the result singular if its linear part is not invertible.
+  static Transform fromMatrix(const Mat4 &m);
+
+  /// `a * b` applies b first, then a.
+  Transform operator*(const Transform &o) const;
+  Transform inverse() const;
+
+  Vec3 applyPoint(const Vec3 &p) const;
+  Vec3 applyVector(const Vec3 &v) const;
+  /// Transforms a normal by the inverse transpose (result not normalised).
+  Vec3 applyNormal(const Vec3 &n) const;
+  Ray applyRay(const Ray &r) const { return {applyPoint(r.o), applyVector(r.d), r.tMin, r.tMax}; }
+
+  const Mat4 &matrix() const { return m_; }
+  const Mat4 &inverseMatrix() const { return inv_; }
+  bool singular() const { return singular_; }
+  bool isIdentity() const { return m_ == Mat4::identity(); }
+  /// Largest absolute entry of the linear part (used for error bounds).
+  double maxLinearEntry() const;
+  /// Human-readable matrix rows, for messages and Lua tostring.
+  std::string toString() const;
+
+private:
+  Mat4 m_ = Mat4::identity();
+  Mat4 inv_ = Mat4::identity();
+  bool singular_ = false;
+};
+
+} // namespace lray

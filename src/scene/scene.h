@@ -1,0 +1,133 @@
+// Pipeline: scene description. The plain C++ model a frame's Lua scene is
+// converted into; everything below this (backends, shading, rendering) reads
+// only these types and never touches Lua.
+#pragma once
+
+#include "math/color.h"
+#include "math/transform.h"
+#include "math/vec3.h"
+#include "scene/mesh_data.h"
+#include "scene/scene_error.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lray {
+
+/// SceneInfo: image size and animation (SPEC 4).
+struct SceneInfo {
+  int imageWidth = 800;
+  int imageHeight = 600;
+  int frames = 1;
+  int samples = 1; ///< n: an n x n grid of samples per pixel
+  double startClock = 0;
+  double endClock = 1;
+
+  /// Clock value for 0-based frame i (SPEC 2).
+  double clockForFrame(int i) const {
+    if (frames <= 1) return startClock;
+    return startClock + (endClock - startClock) * i / (frames - 1);
+  }
+};
+
+/// Finish (SPEC 7); defaults as in the spec.
+struct Finish {
+  Color ambient{0.02, 0.02, 0.02};
+  double diffuse = 0.6;
+  double specular = 0.1;
+  double exponent = 1.0;
+  double reflection = 0;
+  double refraction = 0;
+  double refractionIndex = 1.0;
+  double absorption = 0.5;
+};
+
+/// How a pigment's lookup point is made from a hit (SPEC 7 texture maps).
+struct TextureMap {
+  enum class Kind : uint8_t {
+    TextureMap2D,   ///< (s,t) = (u,v)
+    UVMap,          ///< s = u*scaleS + translateS, t likewise
+    SphericalMap,   ///< 2-D from the local point by angles (ext)
+    CylindricalMap, ///< 2-D from the local point by angle and height (ext)
+    TextureMap3D,   ///< the entity-local point
+    LinearMap,      ///< the entity-local point with `transform` applied
+  };
+  Kind kind = Kind::TextureMap2D;
+  double scaleS = 1, scaleT = 1, translateS = 0, translateT = 0;
+  Transform transform;
+
+  bool is3D() const { return kind == Kind::TextureMap3D || kind == Kind::LinearMap; }
+};
+
+/// A pigment node. Checkers refer to their two sub-pigments by index into
+/// Scene::pigments (always smaller indices: the table is built bottom-up).
+struct Pigment {
+  enum class Kind : uint8_t { Color, Checker2D, Checker3D, Marble3D, Wood3D, Image2D };
+  Kind kind = Kind::Color;
+  Color color{1, 1, 1};               ///< Color
+  uint32_t pigment1 = 0, pigment2 = 0; ///< Checker*: indices into Scene::pigments
+  Color color1{0, 0, 0}, color2{1, 1, 1}; ///< Marble/Wood
+  Vec3 frequency{5, 5, 5};            ///< Marble/Wood
+  double power = 2;                   ///< Marble/Wood
+  double size = 0.2;                  ///< Marble/Wood
+  uint32_t image = 0;                 ///< Image2D: index into Scene::images
+  TextureMap map;
+};
+
+/// An image used by ImagePigment2D, named by absolute path (resolved against
+/// the scene file's folder by the scene layer). Loaded by the shading layer.
+struct ImageRef {
+  std::string path;
+  SourceLocation loc;
+};
+
+/// Texture = finish + pigment (index into Scene::pigments).
+struct Texture {
+  Finish finish;
+  uint32_t pigment = 0;
+};
+
+enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh };
+
+/// An entity placed in the world (SPEC 5). For meshes, `mesh` holds the
+/// (possibly shared) geometry and `worldFromObject` the mesh transform.
+struct Entity {
+  ShapeKind kind = ShapeKind::Sphere;
+  Transform worldFromObject;
+  bool open = false; ///< Cylinder/Cone: no caps (ext)
+  bool smooth = false; ///< Mesh: interpolate vertex normals
+  uint32_t texture = 0; ///< index into Scene::textures
+  MeshDataPtr mesh;     ///< Mesh only
+  SourceLocation loc;
+};
+
+/// A rows x cols light (SPEC 6): a 1x1 square in its local xz-plane.
+struct Light {
+  Color color{1, 1, 1};
+  int rows = 1;
+  int cols = 1;
+  bool area = false;
+  Transform worldFromLight;
+};
+
+/// Perspective camera (SPEC 4): horizontal fov in degrees, aspect = w/h of
+/// the image plane; looks down +z of its own frame, +y up.
+struct Camera {
+  double fov = 45;
+  double aspect = 1.33;
+  Transform worldFromCamera;
+};
+
+/// One frame's complete scene.
+struct Scene {
+  Color background{0, 0, 0};
+  Camera camera;
+  std::vector<Entity> entities;
+  std::vector<Light> lights;
+  std::vector<Texture> textures; ///< at least one (the default) when entities exist
+  std::vector<Pigment> pigments;
+  std::vector<ImageRef> images;
+};
+
+} // namespace lray

@@ -1,0 +1,27 @@
+// Pipeline: shading. Per-thread counters of rays traced by kind, summed
+// once per tile (no shared atomics on the hot path); reported by --stats.
+#pragma once
+
+#include <cstdint>
+
+namespace lray {
+
+struct RayCounts {
+  uint64_t camera = 0;
+  uint64_t shadow = 0;
+  uint64_t reflection = 0;
+  uint64_t refraction = 0;
+  /// Samples whose colour came out NaN or Inf (replaced by black; must stay 0).
+  uint64_t nonFinite = 0;
+
+  RayCounts &operator+=(const RayCounts &o) {
+    camera += o.camera;
+    shadow += o.shadow;
+    reflection += o.reflection;
+    refraction += o.refraction;
+    nonFinite += o.nonFinite;
+    return *this;
+  }
+};
+
+} // namespace lray

@@ -1,0 +1,1 @@
+list(APPEND LRAY_TEST_SOURCES tests/math/transform_test.cpp tests/math/random_test.cpp)

@@ -1,2 +1,1 @@
-// Placeholder entry point; replaced by the CLI.
-int main() { return 0; }
+int main() { return 0; } // placeholder until the app lands

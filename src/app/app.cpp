@@ -1,0 +1,199 @@
+// Pipeline: application. The frame loop of the lray CLI.
+#include "app/app.h"
+
+#include "app/progress_bar.h"
+#include "app/render_stats.h"
+#include "bindings/scene_script.h"
+#include "render/renderer.h"
+#include "shading/image_cache.h"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <unistd.h>
+
+namespace lray {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Creates the output folder and proves it is writable before any work is done.
+void prepareOutDir(const std::string &dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw SceneError("cannot create output folder '" + dir + "': " +
+                     (ec ? ec.message() : std::string("a file of that name exists")));
+  if (access(dir.c_str(), W_OK | X_OK) != 0)
+    throw SceneError("output folder '" + dir + "' is not writable");
+}
+
+void writeTextAtomically(const std::string &path, const std::string &text) {
+  std::string tmp = path + ".tmp" + std::to_string(getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out.flush()) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw SceneError("cannot write '" + path + "'");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw SceneError("cannot write '" + path + "': " + ec.message());
+}
+
+int run(const Options &opt) {
+  auto start = std::chrono::steady_clock::now();
+  RunStats stats;
+  if (!fs::is_regular_file(opt.scenePath))
+    throw SceneError("scene file '" + opt.scenePath + "' does not exist or is not a file");
+  // Fail on an unusable output before spending time on the script.
+  prepareOutDir(opt.outDir);
+  if (!opt.statsPath.empty()) {
+    fs::path statsDir = fs::path(opt.statsPath).parent_path();
+    if (!statsDir.empty() && !fs::is_directory(statsDir))
+      throw SceneError("--stats: folder '" + statsDir.string() + "' does not exist");
+  }
+
+  int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+  tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<size_t>(threads));
+
+  ScriptOptions scriptOptions;
+  scriptOptions.unsafe = opt.unsafe;
+  scriptOptions.timeoutSeconds = opt.scriptTimeout;
+  auto t0 = std::chrono::steady_clock::now();
+  SceneScript script(opt.scenePath, scriptOptions);
+  stats.loadSeconds = secondsSince(t0);
+  const SceneInfo info = effectiveSceneInfo(script.info(), opt);
+
+  int first = opt.firstFrame.value_or(0);
+  int last = opt.lastFrame.value_or(info.frames - 1);
+  std::string stem = fs::path(opt.scenePath).stem().string();
+  stats.scene = opt.scenePath;
+  stats.backend = backendName(opt.backend);
+  stats.threads = threads;
+  stats.width = info.imageWidth;
+  stats.height = info.imageHeight;
+  stats.samples = info.samples;
+
+  ImageCache images(opt.linear);
+  ProgressBar bar(!opt.quiet);
+  for (int frame = first; frame <= last; ++frame) {
+    FrameStats fs_;
+    fs_.frame = frame;
+    fs_.clock = info.clockForFrame(frame);
+    std::string path = (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
+    fs_.file = path;
+
+    t0 = std::chrono::steady_clock::now();
+    Scene scene = script.buildFrame(fs_.clock);
+    fs_.sceneSeconds = secondsSince(t0);
+    fs_.entities = scene.entities.size();
+    fs_.lights = scene.lights.size();
+
+    double imageAspect = static_cast<double>(info.imageWidth) / info.imageHeight;
+    if (frame == first && std::fabs(scene.camera.aspect - imageAspect) > 0.01 * imageAspect)
+      std::fprintf(stderr,
+                   "lray: warning: camera aspect %.4g differs from the image's %dx%d (%.4g); the "
+                   "image is stretched\n",
+                   scene.camera.aspect, info.imageWidth, info.imageHeight, imageAspect);
+
+    t0 = std::chrono::steady_clock::now();
+    images.load(scene);
+    fs_.imageSeconds = secondsSince(t0);
+
+    std::unique_ptr<Accelerator> accel = makeAccelerator(opt.backend, scene);
+    fs_.accel = accel->stats();
+
+    FrameSettings settings;
+    settings.width = info.imageWidth;
+    settings.height = info.imageHeight;
+    settings.samples = info.samples;
+    settings.frameIndex = frame;
+    bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
+    t0 = std::chrono::steady_clock::now();
+    Film film = renderFrame(scene, *accel, images, settings, fs_.rays,
+                            [&bar](size_t done, size_t total) { bar.update(done, total); });
+    fs_.renderSeconds = secondsSince(t0);
+    bar.finish(fs_.renderSeconds);
+
+    t0 = std::chrono::steady_clock::now();
+    writeImage(film, path, opt.format, opt.linear);
+    fs_.writeSeconds = secondsSince(t0);
+    if (!opt.quiet && !bar.enabled())
+      std::printf("%s (%.2f s)\n", path.c_str(), fs_.renderSeconds + fs_.sceneSeconds);
+    stats.frames.push_back(std::move(fs_));
+  }
+  stats.totalSeconds = secondsSince(start);
+  stats.peakMemoryBytes = peakMemoryBytes();
+  if (!opt.statsPath.empty()) writeTextAtomically(opt.statsPath, toJson(stats));
+  return 0;
+}
+
+} // namespace
+
+std::string frameFileName(const std::string &stem, int frame, int frameCount, ImageFormat format) {
+  std::string ext = formatExtension(format);
+  if (frameCount <= 1) return stem + "." + ext;
+  return fmt::format("{}{:04d}.{}", stem, frame, ext);
+}
+
+SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options) {
+  SceneInfo info = fromScript;
+  if (options.width) info.imageWidth = *options.width;
+  if (options.height) info.imageHeight = *options.height;
+  if (options.samples) info.samples = *options.samples;
+  auto positive = [](const char *name, int v) {
+    if (v <= 0) throw SceneError(fmt::format("SceneInfo: {} must be a positive integer, got {}", name, v));
+  };
+  positive("image_width", info.imageWidth);
+  positive("image_height", info.imageHeight);
+  positive("frames", info.frames);
+  positive("samples", info.samples);
+  double work = static_cast<double>(info.imageWidth) * info.imageHeight * info.samples * info.samples;
+  if (work > options.maxPixels)
+    throw SceneError(fmt::format(
+        "image {}x{} with {}x{} samples is {:.3g} samples, above the --max-pixels cap of {:.3g}; "
+        "raise --max-pixels if this is intended",
+        info.imageWidth, info.imageHeight, info.samples, info.samples, work, options.maxPixels));
+  if (options.lastFrame && *options.lastFrame >= info.frames)
+    throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
+                                 *options.firstFrame, *options.lastFrame, info.frames,
+                                 info.frames == 1 ? "" : "s", info.frames - 1));
+  return info;
+}
+
+int runLray(int argc, const char *const *argv) {
+  ParseResult parsed = parseOptions(argc, argv);
+  if (!parsed.options) {
+    std::fputs(parsed.message.c_str(), parsed.exitCode == 0 ? stdout : stderr);
+    if (!parsed.message.empty() && parsed.message.back() != '\n')
+      std::fputc('\n', parsed.exitCode == 0 ? stdout : stderr);
+    return parsed.exitCode;
+  }
+  try {
+    return run(*parsed.options);
+  } catch (const SceneError &e) {
+    std::fprintf(stderr, "lray: error: %s\n", e.what());
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "lray: error: %s\n", e.what());
+  }
+  return 1;
+}
+
+} // namespace lray

@@ -1,0 +1,25 @@
+// Pipeline: application. The whole `lray` program behind a thin main():
+// parse options, run the script, then per frame build the scene model,
+// the backend and the image, and write it atomically.
+#pragma once
+
+#include "app/options.h"
+#include "scene/scene.h"
+
+#include <string>
+
+namespace lray {
+
+/// Runs lray; returns the process exit status (0 ok, 1 render or scene
+/// error, 2 usage error). Errors are printed to stderr as one paragraph.
+int runLray(int argc, const char *const *argv);
+
+/// File name of frame `frame` of a scene: <stem>.<ext> for one frame,
+/// <stem>NNNN.<ext> for an animation.
+std::string frameFileName(const std::string &stem, int frame, int frameCount, ImageFormat format);
+
+/// Applies the command-line overrides to scene_info and checks the result
+/// (positive sizes, the --max-pixels cap, the frame range). Throws SceneError.
+SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options);
+
+} // namespace lray

@@ -1,0 +1,97 @@
+// Pipeline: application. Command-line parsing with CLI11.
+#include "app/options.h"
+
+#include <CLI/CLI.hpp>
+
+#include <map>
+#include <regex>
+
+namespace lray {
+
+namespace {
+
+const char *kDescription =
+    "LRay renders a scene written as a Lua script.\n\n"
+    "Every frame of <scene.lua> is rendered into <outdir> (created if missing) as\n"
+    "<stem>.png for a one-frame scene, or <stem>0000.png, <stem>0001.png, ... for an\n"
+    "animation. Paths inside the script are relative to the script's folder.\n\n"
+    "Examples:\n"
+    "  lray scenes/ring.lua out/                      render all 20 frames\n"
+    "  lray scenes/ring.lua out/ --frames 5:5 -w 320  frame 5 only, 320 px wide\n"
+    "  lray scene.lua out/ --backend kdtree --stats stats.json\n";
+
+} // namespace
+
+ParseResult parseOptions(int argc, const char *const *argv) {
+  Options o;
+  CLI::App app(kDescription, "lray");
+  app.set_version_flag("--version", std::string("lray ") + LRAY_VERSION);
+  app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
+  app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
+
+  std::map<std::string, BackendKind> backends{{"embree", BackendKind::Embree},
+                                              {"kdtree", BackendKind::KdTree}};
+  app.add_option("--backend", o.backend, "Acceleration backend: embree (default) or kdtree")
+      ->transform(CLI::CheckedTransformer(backends, CLI::ignore_case));
+  app.add_option("-t,--threads", o.threads, "Render threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  std::string frames;
+  app.add_option("--frames", frames,
+                 "Render frames A to B inclusive, numbered from 0 as in the file names "
+                 "(A:B, or A for one frame)");
+  app.add_option("-w,--width", o.width, "Image width in pixels (overrides scene_info)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("-H,--height", o.height, "Image height in pixels (overrides scene_info)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("-s,--samples", o.samples,
+                 "n: n x n jittered samples per pixel (overrides scene_info)")
+      ->check(CLI::PositiveNumber);
+  std::map<std::string, ImageFormat> formats{
+      {"png", ImageFormat::Png}, {"tga", ImageFormat::Tga}, {"exr", ImageFormat::Exr}};
+  app.add_option("-f,--format", o.format, "Output format: png (default), tga or exr")
+      ->transform(CLI::CheckedTransformer(formats, CLI::ignore_case));
+  app.add_flag("--linear", o.linear,
+               "Linear workflow: decode 8-bit textures from sRGB, encode 8-bit outputs to sRGB");
+  app.add_flag("-q,--quiet", o.quiet, "No progress bar or informational output");
+  app.add_option("--stats", o.statsPath,
+                 "Write render statistics as JSON to FILE (times, rays by kind, memory)");
+  app.add_flag("--unsafe", o.unsafe,
+               "Give the script the full Lua standard library (os, io write access)");
+  app.add_option("--script-timeout", o.scriptTimeout,
+                 "Abort a script that runs longer than SECONDS (default 60)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-pixels", o.maxPixels,
+                 "Refuse renders with width*height*samples^2 above this (default 1e9)")
+      ->check(CLI::PositiveNumber);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp &) {
+    return {std::nullopt, 0, app.help()};
+  } catch (const CLI::CallForVersion &) {
+    return {std::nullopt, 0, std::string("lray ") + LRAY_VERSION + "\n"};
+  } catch (const CLI::ParseError &e) {
+    return {std::nullopt, 2, std::string(e.what()) + "\nRun 'lray --help' for usage."};
+  }
+
+  if (!frames.empty()) {
+    std::smatch m;
+    static const std::regex range(R"(^\s*(\d+)\s*(?::\s*(\d+)\s*)?$)");
+    if (!std::regex_match(frames, m, range))
+      return {std::nullopt, 2, "--frames: expected A:B or A (0-based frame numbers), got '" +
+                                   frames + "'\nRun 'lray --help' for usage."};
+    try {
+      o.firstFrame = std::stoi(m[1]);
+      o.lastFrame = m[2].matched ? std::stoi(m[2]) : *o.firstFrame;
+    } catch (const std::exception &) {
+      return {std::nullopt, 2, "--frames: frame number out of range in '" + frames + "'"};
+    }
+    if (*o.lastFrame < *o.firstFrame)
+      return {std::nullopt, 2, "--frames: the last frame (" + std::to_string(*o.lastFrame) +
+                                   ") comes before the first (" + std::to_string(*o.firstFrame) +
+                                   ")"};
+  }
+  return {o, 0, ""};
+}
+
+} // namespace lray

@@ -1,0 +1,41 @@
+// Pipeline: application. The command line of SPEC 1, parsed into plain
+// options that the frame loop reads.
+#pragma once
+
+#include "accel/accelerator.h"
+#include "render/image_writer.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lray {
+
+/// Everything `lray <scene.lua> <outdir> [options]` can say.
+struct Options {
+  std::string scenePath;
+  std::string outDir;
+  BackendKind backend = BackendKind::Embree;
+  int threads = 0; ///< 0 = all cores
+  std::optional<int> firstFrame, lastFrame; ///< --frames A:B, inclusive, 0-based
+  std::optional<int> width, height, samples;
+  ImageFormat format = ImageFormat::Png;
+  bool linear = false;
+  bool quiet = false;
+  bool unsafe = false;
+  std::string statsPath;
+  double scriptTimeout = 60;
+  double maxPixels = 1e9; ///< cap on width * height * samples^2
+};
+
+/// The outcome of parsing: either options to run, or an exit code with the
+/// text to print (help, version, or a usage error).
+struct ParseResult {
+  std::optional<Options> options;
+  int exitCode = 0;
+  std::string message;  ///< printed to stdout when exitCode == 0, else to stderr
+};
+
+ParseResult parseOptions(int argc, const char *const *argv);
+
+} // namespace lray

@@ -1,0 +1,43 @@
+// Pipeline: application. What --stats FILE reports, as JSON.
+#pragma once
+
+#include "accel/accelerator.h"
+#include "shading/ray_counts.h"
+
+#include <string>
+#include <vector>
+
+namespace lray {
+
+/// Figures for one rendered frame. Times in seconds.
+struct FrameStats {
+  int frame = 0;
+  double clock = 0;
+  std::string file;
+  double sceneSeconds = 0;  ///< scene(clock) + conversion to the scene model
+  double imageSeconds = 0;  ///< loading texture images not yet cached
+  double renderSeconds = 0; ///< tiles: tracing and shading
+  double writeSeconds = 0;
+  AcceleratorStats accel;
+  size_t entities = 0, lights = 0;
+  RayCounts rays;
+};
+
+/// The whole run.
+struct RunStats {
+  std::string scene;
+  std::string backend;
+  int threads = 0;
+  int width = 0, height = 0, samples = 0;
+  double loadSeconds = 0; ///< running the script file itself
+  double totalSeconds = 0;
+  size_t peakMemoryBytes = 0;
+  std::vector<FrameStats> frames;
+};
+
+std::string toJson(const RunStats &stats);
+
+/// Peak resident set size of this process so far.
+size_t peakMemoryBytes();
+
+} // namespace lray

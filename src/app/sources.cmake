@@ -1,0 +1,1 @@
+list(APPEND LRAY_CORE_SOURCES src/app/options.cpp src/app/progress_bar.cpp src/app/render_stats.cpp)

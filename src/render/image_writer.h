@@ -1,0 +1,32 @@
+// Pipeline: render (last stage). Writes a Film through OpenImageIO, never
+// leaving a truncated file under the final name.
+#pragma once
+
+#include "render/film.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lray {
+
+enum class ImageFormat { Png, Tga, Exr };
+
+/// "png" / "tga" / "exr"; also the file extension.
+std::string formatExtension(ImageFormat format);
+
+/// 8-bit value written for a linear-light value: clamped to [0,1] and rounded;
+/// with `srgb` the value is first encoded with the sRGB transfer curve.
+uint8_t quantize8(float value, bool srgb);
+
+/// The 8-bit RGB bytes an LDR file of this film holds (row 0 = top).
+std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb);
+
+/// Writes `film` to `path` in `format`: PNG/TGA 8 bits per channel (clamped,
+/// rounded; sRGB-encoded when `srgb`), EXR 32-bit float unclamped. Writes a
+/// temporary file in the same folder and renames it over `path`.
+/// Throws std::runtime_error naming the path on failure (and removes the
+/// temporary file).
+void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb);
+
+} // namespace lray

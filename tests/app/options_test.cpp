@@ -1,0 +1,86 @@
+// Tests for src/app/options: the command line of SPEC 1.
+#include "app/options.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace lray {
+namespace {
+
+ParseResult parse(std::vector<const char *> args) {
+  args.insert(args.begin(), "lray");
+  return parseOptions(static_cast<int>(args.size()), args.data());
+}
+
+TEST(Options, Defaults) {
+  ParseResult r = parse({"scene.lua", "out"});
+  ASSERT_TRUE(r.options);
+  EXPECT_EQ(r.options->scenePath, "scene.lua");
+  EXPECT_EQ(r.options->outDir, "out");
+  EXPECT_EQ(r.options->backend, BackendKind::Embree);
+  EXPECT_EQ(r.options->format, ImageFormat::Png);
+  EXPECT_EQ(r.options->threads, 0);
+  EXPECT_FALSE(r.options->firstFrame);
+  EXPECT_DOUBLE_EQ(r.options->scriptTimeout, 60);
+}
+
+TEST(Options, AllOptions) {
+  ParseResult r = parse({"s.lua", "o", "--backend", "kdtree", "--threads", "2", "--frames", "3:7",
+                         "--width", "64", "--height", "48", "--samples", "3", "--format", "exr",
+                         "--linear", "--quiet", "--stats", "st.json", "--unsafe",
+                         "--script-timeout", "5", "--max-pixels", "1000"});
+  ASSERT_TRUE(r.options) << r.message;
+  const Options &o = *r.options;
+  EXPECT_EQ(o.backend, BackendKind::KdTree);
+  EXPECT_EQ(o.threads, 2);
+  EXPECT_EQ(*o.firstFrame, 3);
+  EXPECT_EQ(*o.lastFrame, 7);
+  EXPECT_EQ(*o.width, 64);
+  EXPECT_EQ(*o.height, 48);
+  EXPECT_EQ(*o.samples, 3);
+  EXPECT_EQ(o.format, ImageFormat::Exr);
+  EXPECT_TRUE(o.linear);
+  EXPECT_TRUE(o.quiet);
+  EXPECT_TRUE(o.unsafe);
+  EXPECT_EQ(o.statsPath, "st.json");
+  EXPECT_DOUBLE_EQ(o.scriptTimeout, 5);
+  EXPECT_DOUBLE_EQ(o.maxPixels, 1000);
+}
+
+TEST(Options, SingleFrame) {
+  ParseResult r = parse({"s.lua", "o", "--frames", "4"});
+  ASSERT_TRUE(r.options);
+  EXPECT_EQ(*r.options->firstFrame, 4);
+  EXPECT_EQ(*r.options->lastFrame, 4);
+}
+
+TEST(Options, UsageErrorsExitWithTwo) {
+  for (auto args : std::vector<std::vector<const char *>>{
+           {"s.lua"},
+           {"s.lua", "o", "--backend", "bvh"},
+           {"s.lua", "o", "--frames", "7:3"},
+           {"s.lua", "o", "--frames", "a:b"},
+           {"s.lua", "o", "--threads", "0"},
+           {"s.lua", "o", "--width", "-5"},
+           {"s.lua", "o", "--format", "jpg"},
+           {"s.lua", "o", "--bogus"}}) {
+    ParseResult r = parse(args);
+    EXPECT_FALSE(r.options) << args.back();
+    EXPECT_EQ(r.exitCode, 2) << args.back();
+    EXPECT_FALSE(r.message.empty());
+  }
+}
+
+TEST(Options, HelpAndVersionExitWithZero) {
+  ParseResult h = parse({"--help"});
+  EXPECT_EQ(h.exitCode, 0);
+  EXPECT_NE(h.message.find("--backend"), std::string::npos);
+  EXPECT_NE(h.message.find("Examples"), std::string::npos);
+  ParseResult v = parse({"--version"});
+  EXPECT_EQ(v.exitCode, 0);
+  EXPECT_NE(v.message.find("lray "), std::string::npos);
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,1 @@
+list(APPEND LRAY_TEST_SOURCES tests/app/options_test.cpp)

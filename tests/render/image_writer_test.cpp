@@ -1,0 +1,112 @@
+// Tests for src/render/image_writer: quantisation, formats, atomic writes.
+#include "render/image_writer.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace lray {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir(const std::string &name) {
+  fs::path dir = fs::temp_directory_path() / ("lray_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(ImageWriter, QuantizeClampsAndRounds) {
+  EXPECT_EQ(quantize8(-1.f, false), 0);
+  EXPECT_EQ(quantize8(2.f, false), 255);
+  EXPECT_EQ(quantize8(0.5f, false), 128); // 127.5 rounds up
+  EXPECT_EQ(quantize8(0.4f / 255.f, false), 0);
+  EXPECT_EQ(quantize8(0.6f / 255.f, false), 1);
+  EXPECT_EQ(quantize8(std::nanf(""), false), 0);
+}
+
+TEST(ImageWriter, QuantizeSrgbEncodes) {
+  EXPECT_EQ(quantize8(0.f, true), 0);
+  EXPECT_EQ(quantize8(1.f, true), 255);
+  EXPECT_EQ(quantize8(0.5f, true), 188); // sRGB(0.5) = 0.7354
+  EXPECT_EQ(quantize8(0.002f, true), 7); // linear segment: 12.92 * 0.002 * 255 = 6.6
+}
+
+Film testFilm() {
+  Film film(3, 2);
+  film.set(0, 0, {1, 0, 0});
+  film.set(1, 0, {0, 1, 0});
+  film.set(2, 0, {0, 0, 1});
+  film.set(0, 1, {0.5, 0.25, 2.0});
+  return film;
+}
+
+TEST(ImageWriter, PngRoundTripKeepsPixelsAndOrientation) {
+  fs::path dir = freshDir("png");
+  std::string path = (dir / "a.png").string();
+  writeImage(testFilm(), path, ImageFormat::Png, false);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 3);
+  EXPECT_EQ(in->spec().height, 2);
+  std::vector<uint8_t> px(3 * 2 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+  EXPECT_EQ(px[0], 255); // top-left red
+  EXPECT_EQ(px[4], 255); // (1,0) green
+  EXPECT_EQ(px[8], 255); // (2,0) blue
+  EXPECT_EQ(px[9], 128);
+  EXPECT_EQ(px[10], 64);
+  EXPECT_EQ(px[11], 255); // clamped
+  // Nothing but the final file is left behind.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  fs::remove_all(dir);
+}
+
+TEST(ImageWriter, ExrKeepsUnclampedFloats) {
+  fs::path dir = freshDir("exr");
+  std::string path = (dir / "a.exr").string();
+  writeImage(testFilm(), path, ImageFormat::Exr, false);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  std::vector<float> px(3 * 2 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
+  EXPECT_FLOAT_EQ(px[11], 2.0f);
+  EXPECT_FLOAT_EQ(px[10], 0.25f);
+  fs::remove_all(dir);
+}
+
+TEST(ImageWriter, TgaIsWritten) {
+  fs::path dir = freshDir("tga");
+  std::string path = (dir / "a.tga").string();
+  writeImage(testFilm(), path, ImageFormat::Tga, false);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(std::string(in->format_name()), "targa");
+  fs::remove_all(dir);
+}
+
+TEST(ImageWriter, FailureLeavesNoFile) {
+  fs::path dir = freshDir("fail");
+  std::string path = (dir / "missing_folder" / "a.png").string();
+  EXPECT_THROW(writeImage(testFilm(), path, ImageFormat::Png, false), std::runtime_error);
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0);
+  fs::remove_all(dir);
+}
+
+TEST(ImageWriter, ReplacesAnExistingFileWhole) {
+  fs::path dir = freshDir("replace");
+  std::string path = (dir / "a.png").string();
+  Film big(64, 64);
+  writeImage(big, path, ImageFormat::Png, false);
+  writeImage(testFilm(), path, ImageFormat::Png, false);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 3);
+  fs::remove_all(dir);
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,1 @@
+list(APPEND LRAY_TEST_SOURCES tests/render/image_writer_test.cpp tests/render/camera_rays_test.cpp)

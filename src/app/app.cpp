@@ -4,7 +4,7 @@
 #include "app/progress_bar.h"
 #include "app/render_stats.h"
 #include "bindings/scene_script.h"
-#include "render/renderer.h"
+#include "app/frame_pipeline.h"
 #include "shading/image_cache.h"
 
 #include <fmt/format.h>
@@ -56,6 +56,16 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
   if (ec) throw SceneError("cannot write '" + path + "': " + ec.message());
 }
 
+// SPEC 4: a camera aspect more than 1 % off the image's stretches the picture.
+void warnIfStretched(double cameraAspect, const SceneInfo &info) {
+  double imageAspect = static_cast<double>(info.imageWidth) / info.imageHeight;
+  if (std::fabs(cameraAspect - imageAspect) > 0.01 * imageAspect)
+    std::fprintf(stderr,
+                 "lray: warning: camera aspect %.4g differs from the image's %dx%d (%.4g); the "
+                 "image is stretched\n",
+                 cameraAspect, info.imageWidth, info.imageHeight, imageAspect);
+}
+
 int run(const Options &opt) {
   auto start = std::chrono::steady_clock::now();
   RunStats stats;
@@ -93,51 +103,27 @@ int run(const Options &opt) {
 
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
+  bool warnedAspect = false;
   for (int frame = first; frame <= last; ++frame) {
-    FrameStats fs_;
-    fs_.frame = frame;
-    fs_.clock = info.clockForFrame(frame);
-    std::string path = (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
-    fs_.file = path;
-
-    t0 = std::chrono::steady_clock::now();
-    Scene scene = script.buildFrame(fs_.clock);
-    fs_.sceneSeconds = secondsSince(t0);
-    fs_.entities = scene.entities.size();
-    fs_.lights = scene.lights.size();
-
-    double imageAspect = static_cast<double>(info.imageWidth) / info.imageHeight;
-    if (frame == first && std::fabs(scene.camera.aspect - imageAspect) > 0.01 * imageAspect)
-      std::fprintf(stderr,
-                   "lray: warning: camera aspect %.4g differs from the image's %dx%d (%.4g); the "
-                   "image is stretched\n",
-                   scene.camera.aspect, info.imageWidth, info.imageHeight, imageAspect);
-
-    t0 = std::chrono::steady_clock::now();
-    images.load(scene);
-    fs_.imageSeconds = secondsSince(t0);
-
-    std::unique_ptr<Accelerator> accel = makeAccelerator(opt.backend, scene);
-    fs_.accel = accel->stats();
-
-    FrameSettings settings;
-    settings.width = info.imageWidth;
-    settings.height = info.imageHeight;
-    settings.samples = info.samples;
-    settings.frameIndex = frame;
+    FrameStats frameStats;
+    std::string path =
+        (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
+    frameStats.file = path;
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
-    t0 = std::chrono::steady_clock::now();
-    Film film = renderFrame(scene, *accel, images, settings, fs_.rays,
-                            [&bar](size_t done, size_t total) { bar.update(done, total); });
-    fs_.renderSeconds = secondsSince(t0);
-    bar.finish(fs_.renderSeconds);
+    Film film = renderScriptFrame(script, info, frame, opt.backend, images, frameStats,
+                                  [&bar](size_t done, size_t total) { bar.update(done, total); });
+    bar.finish(frameStats.renderSeconds);
+    if (!warnedAspect) {
+      warnedAspect = true;
+      warnIfStretched(frameStats.cameraAspect, info);
+    }
 
     t0 = std::chrono::steady_clock::now();
     writeImage(film, path, opt.format, opt.linear);
-    fs_.writeSeconds = secondsSince(t0);
+    frameStats.writeSeconds = secondsSince(t0);
     if (!opt.quiet && !bar.enabled())
-      std::printf("%s (%.2f s)\n", path.c_str(), fs_.renderSeconds + fs_.sceneSeconds);
-    stats.frames.push_back(std::move(fs_));
+      std::printf("%s (%.2f s)\n", path.c_str(), frameStats.renderSeconds + frameStats.sceneSeconds);
+    stats.frames.push_back(std::move(frameStats));
   }
   stats.totalSeconds = secondsSince(start);
   stats.peakMemoryBytes = peakMemoryBytes();

@@ -1,0 +1,48 @@
+// Pipeline: application. One frame, end to end.
+#include "app/frame_pipeline.h"
+
+#include "bindings/scene_script.h"
+#include "shading/image_cache.h"
+
+#include <chrono>
+#include <memory>
+
+namespace lray {
+
+namespace {
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+} // namespace
+
+Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, BackendKind backend,
+                       ImageCache &images, FrameStats &stats, const ProgressFn &progress) {
+  stats.frame = frame;
+  stats.clock = info.clockForFrame(frame);
+
+  auto t0 = std::chrono::steady_clock::now();
+  Scene scene = script.buildFrame(stats.clock);
+  stats.sceneSeconds = secondsSince(t0);
+  stats.entities = scene.entities.size();
+  stats.lights = scene.lights.size();
+  stats.cameraAspect = scene.camera.aspect;
+
+  t0 = std::chrono::steady_clock::now();
+  images.load(scene);
+  stats.imageSeconds = secondsSince(t0);
+
+  std::unique_ptr<Accelerator> accel = makeAccelerator(backend, scene);
+  stats.accel = accel->stats();
+
+  FrameSettings settings;
+  settings.width = info.imageWidth;
+  settings.height = info.imageHeight;
+  settings.samples = info.samples;
+  settings.frameIndex = frame;
+  t0 = std::chrono::steady_clock::now();
+  Film film = renderFrame(scene, *accel, images, settings, stats.rays, progress);
+  stats.renderSeconds = secondsSince(t0);
+  return film;
+}
+
+} // namespace lray

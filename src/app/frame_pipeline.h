@@ -1,0 +1,22 @@
+// Pipeline: application. One frame through the whole pipeline: scene(clock)
+// -> scene model -> backend -> shading -> film. Shared by the CLI and the
+// reference-image checker so both render exactly the same way.
+#pragma once
+
+#include "accel/accelerator.h"
+#include "app/render_stats.h"
+#include "render/film.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace lray {
+
+class SceneScript;
+class ImageCache;
+
+/// Renders 0-based frame `frame` of `script` at the size and sampling of
+/// `info`, filling `stats` (times, rays, backend figures).
+Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, BackendKind backend,
+                       ImageCache &images, FrameStats &stats, const ProgressFn &progress = nullptr);
+
+} // namespace lray

@@ -1,0 +1,196 @@
+// End-to-end tests of the lray binary (SPEC 1): exit codes, messages, file
+// names, frame ranges, --stats, and byte-identical output across thread counts.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace lray {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string output; // stdout + stderr
+};
+
+Result runLray(const std::string &args) {
+  std::string cmd = std::string(LRAY_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE *pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  int raw = pclose(pipe);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return r;
+}
+
+std::string readFile(const fs::path &p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class LrayCli : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("lray_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path writeScene(const std::string &name, const std::string &text) {
+    fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+// A small lit scene with shadows and area-light jitter, so thread-count
+// independence covers the random streams too.
+const char *kSpheres = R"(
+scene_info = SceneInfo() { image_width = 48, image_height = 36, frames = 3, samples = 2 }
+function scene(clock)
+  local s = Scene() { camera = Perspective(45, 48/36) { transform = Translate(-6*z) } }
+  for i = 1, 5 do
+    s:add_entity(Sphere(Translate(Vector(i - 3, 0.3*clock, 0)) * Scale(0.4, 0.4, 0.4)))
+  end
+  s:add_light(Light() { transform = Translate(Vector(-3, 3, -3)), rows = 2, cols = 2, area = true })
+  return s
+end
+)";
+
+TEST_F(LrayCli, MissingSceneFileIsOneClearLine) {
+  Result r = runLray((dir_ / "nope.lua").string() + " " + (dir_ / "out").string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("nope.lua"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST_F(LrayCli, BadOptionIsAUsageError) {
+  fs::path scene = writeScene("s.lua", kSpheres);
+  Result r = runLray(scene.string() + " " + (dir_ / "out").string() + " --bogus");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--bogus"), std::string::npos) << r.output;
+  Result b = runLray(scene.string() + " " + (dir_ / "out").string() + " --backend optix");
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.output.find("optix"), std::string::npos) << b.output;
+}
+
+TEST_F(LrayCli, UnwritableOutDirIsAnError) {
+  fs::path scene = writeScene("s.lua", kSpheres);
+  writeScene("a_file", "x");
+  Result r = runLray(scene.string() + " " + (dir_ / "a_file" / "out").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("cannot create output folder"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST_F(LrayCli, HelpAndVersion) {
+  Result h = runLray("--help");
+  EXPECT_EQ(h.status, 0);
+  EXPECT_NE(h.output.find("--frames"), std::string::npos);
+  Result v = runLray("--version");
+  EXPECT_EQ(v.status, 0);
+  EXPECT_EQ(v.output.rfind("lray ", 0), 0u) << v.output;
+}
+
+TEST_F(LrayCli, AnimationFileNamesAndFrameRange) {
+  fs::path scene = writeScene("anim.lua", kSpheres);
+  fs::path out = dir_ / "out";
+  Result r = runLray(scene.string() + " " + out.string() + " --quiet --frames 1:2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(out / "anim0000.png"));
+  EXPECT_TRUE(fs::exists(out / "anim0001.png"));
+  EXPECT_TRUE(fs::exists(out / "anim0002.png"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 2);
+  Result bad = runLray(scene.string() + " " + out.string() + " --quiet --frames 2:3");
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.output.find("3 frames"), std::string::npos) << bad.output;
+}
+
+TEST_F(LrayCli, OneFrameSceneIsNamedAfterTheScript) {
+  fs::path scene = writeScene("still.lua", "function scene(clock) return Scene() end\n");
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() +
+                     " --quiet --width 8 --height 6 --format tga");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "o" / "still.tga"));
+}
+
+TEST_F(LrayCli, SameBytesWithOneAndTwoThreads) {
+  fs::path scene = writeScene("det.lua", kSpheres);
+  Result one = runLray(scene.string() + " " + (dir_ / "t1").string() + " --quiet --threads 1 --frames 1");
+  Result two = runLray(scene.string() + " " + (dir_ / "t2").string() + " --quiet --threads 2 --frames 1");
+  ASSERT_EQ(one.status, 0) << one.output;
+  ASSERT_EQ(two.status, 0) << two.output;
+  std::string a = readFile(dir_ / "t1" / "det0001.png"), b = readFile(dir_ / "t2" / "det0001.png");
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a, b);
+  // And the picture is not trivially uniform: the spheres are there.
+  std::string black = readFile(dir_ / "t1" / "det0001.png");
+  Result blank = runLray(writeScene("blank.lua", "scene_info = SceneInfo() { image_width = 48, "
+                                                 "image_height = 36 }\nfunction scene(c) return "
+                                                 "Scene() end\n").string() +
+                         " " + (dir_ / "t3").string() + " --quiet");
+  ASSERT_EQ(blank.status, 0);
+  EXPECT_NE(readFile(dir_ / "t3" / "blank.png"), a);
+}
+
+TEST_F(LrayCli, StatsJsonCountsRays) {
+  fs::path scene = writeScene("st.lua", kSpheres);
+  fs::path stats = dir_ / "stats.json";
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() + " --quiet --frames 0 --stats " +
+                     stats.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::string json = readFile(stats);
+  // 48 x 36 pixels x 2 x 2 samples.
+  EXPECT_NE(json.find("\"camera\": 6912"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"backend\": \"embree\""), std::string::npos);
+  EXPECT_NE(json.find("\"non_finite_samples\": 0"), std::string::npos);
+  EXPECT_NE(json.find("\"build\""), std::string::npos);
+}
+
+TEST_F(LrayCli, ScriptErrorNamesFileAndLineAndWritesNothing) {
+  fs::path scene = writeScene("broken.lua", "function scene(clock)\n  local s = Scene()\n  "
+                                            "s:add_entity(nil_value.x)\n  return s\nend\n");
+  fs::path out = dir_ / "o";
+  Result r = runLray(scene.string() + " " + out.string() + " --quiet");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("broken.lua:3"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out / "broken.png"));
+}
+
+TEST_F(LrayCli, AbsurdImageSizeIsRefused) {
+  fs::path scene = writeScene("big.lua", "scene_info = SceneInfo() { image_width = 100000, "
+                                         "image_height = 100000 }\nfunction scene(c) return "
+                                         "Scene() end\n");
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() + " --quiet");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--max-pixels"), std::string::npos) << r.output;
+}
+
+TEST_F(LrayCli, RelativeScenePathFromAnotherFolder) {
+  fs::create_directories(dir_ / "sub");
+  writeScene("sub/rel.lua", "function scene(c) return Scene() end\n");
+  std::string cmd = "cd " + dir_.string() + " && " + std::string(LRAY_BINARY) +
+                    " sub/rel.lua out --quiet -w 4 -H 4 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "rel.png"));
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,178 @@
+// Tests for src/shading/image_cache and texture_image: decoding through
+// OpenImageIO (images written by the test), sRGB handling and the wrapped
+// bilinear lookup.
+#include "shading/image_cache.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace lray {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A private temp folder per test, removed afterwards.
+class ImageCacheTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("lray_image_cache_" + std::string(::testing::UnitTest::GetInstance()
+                                                  ->current_test_info()
+                                                  ->name()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Writes a 2x2 8-bit RGB PNG: top row (10, 20, 30) (40, 50, 60), bottom
+  /// row (70, 80, 90) (255, 0, 128).
+  std::string writePng() {
+    std::string path = (dir_ / "tiny.png").string();
+    const uint8_t px[] = {10, 20, 30, 40, 50, 60, 70, 80, 90, 255, 0, 128};
+    auto out = OIIO::ImageOutput::create(path);
+    EXPECT_TRUE(out);
+    OIIO::ImageSpec spec(2, 2, 3, OIIO::TypeDesc::UINT8);
+    EXPECT_TRUE(out->open(path, spec));
+    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+    out->close();
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+Color c8(int r, int g, int b) { return Color(r / 255.0, g / 255.0, b / 255.0); }
+
+void expectColor(const Color &a, const Color &b, double tol = 1e-6) {
+  EXPECT_NEAR(a.r, b.r, tol);
+  EXPECT_NEAR(a.g, b.g, tol);
+  EXPECT_NEAR(a.b, b.b, tol);
+}
+
+TEST_F(ImageCacheTest, ReadsEightBitAsStoredWithBottomRowAtTZero) {
+  TextureImage img = ImageCache::readImage(writePng(), false);
+  ASSERT_EQ(img.width, 2);
+  ASSERT_EQ(img.height, 2);
+  // Texel centres: s = 0.25 / 0.75, t = 0.25 is the bottom row.
+  expectColor(img.lookup(0.25, 0.25), c8(70, 80, 90));
+  expectColor(img.lookup(0.75, 0.25), c8(255, 0, 128));
+  expectColor(img.lookup(0.25, 0.75), c8(10, 20, 30));
+  expectColor(img.lookup(0.75, 0.75), c8(40, 50, 60));
+}
+
+TEST_F(ImageCacheTest, BilinearBetweenCentresAndWrapped) {
+  TextureImage img = ImageCache::readImage(writePng(), false);
+  Color bl = c8(70, 80, 90), br = c8(255, 0, 128), tl = c8(10, 20, 30), tr = c8(40, 50, 60);
+  expectColor(img.lookup(0.5, 0.25), (bl + br) * 0.5);
+  expectColor(img.lookup(0.5, 0.5), (bl + br + tl + tr) * 0.25);
+  // s = 0 lies halfway between the last column (wrapped) and the first.
+  expectColor(img.lookup(0.0, 0.25), (bl + br) * 0.5);
+  expectColor(img.lookup(0.375, 0.25), bl * 0.75 + br * 0.25);
+  // Repeat: whole-number shifts, including negative, change nothing.
+  expectColor(img.lookup(1.25, 0.25), bl);
+  expectColor(img.lookup(-0.75, -1.75), bl);
+  expectColor(img.lookup(-0.25, 0.75), tr);
+  // t = 1 wraps to t = 0: halfway between bottom and top rows.
+  expectColor(img.lookup(0.25, 1.0), (bl + tl) * 0.5);
+  EXPECT_TRUE(isFinite(img.lookup(std::nan(""), 1e300)));
+}
+
+TEST_F(ImageCacheTest, LinearWorkflowDecodesSrgb) {
+  TextureImage img = ImageCache::readImage(writePng(), true);
+  auto srgb = [](double c) {
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  Color got = img.lookup(0.75, 0.25);
+  EXPECT_NEAR(got.r, 1.0, 1e-6);
+  EXPECT_NEAR(got.g, 0.0, 1e-6);
+  EXPECT_NEAR(got.b, srgb(128 / 255.0), 1e-5);
+  EXPECT_NEAR(img.lookup(0.25, 0.75).r, srgb(10 / 255.0), 1e-6);
+}
+
+TEST_F(ImageCacheTest, FloatImagesUsedAsIs) {
+  std::string path = (dir_ / "tiny.exr").string();
+  const float px[] = {2.5f, 0.25f, 0.125f};
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::FLOAT);
+  ASSERT_TRUE(out->open(path, spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px));
+  out->close();
+  TextureImage img = ImageCache::readImage(path, true);
+  expectColor(img.lookup(0.3, 0.9), {2.5, 0.25, 0.125});
+}
+
+TEST_F(ImageCacheTest, RgbaTgaDropsAlphaAndGreyIsReplicated) {
+  std::string tga = (dir_ / "rgba.tga").string();
+  {
+    const uint8_t px[] = {200, 100, 50, 7};
+    auto out = OIIO::ImageOutput::create(tga);
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(1, 1, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1); // write the colour bytes as given
+    ASSERT_TRUE(out->open(tga, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+    out->close();
+  }
+  // Colours as stored, not premultiplied by the alpha of 7.
+  Color c = ImageCache::readImage(tga, false).lookup(0.5, 0.5);
+  expectColor(c, c8(200, 100, 50));
+
+  std::string grey = (dir_ / "grey.png").string();
+  {
+    const uint8_t px[] = {51};
+    auto out = OIIO::ImageOutput::create(grey);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(grey, OIIO::ImageSpec(1, 1, 1, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+    out->close();
+  }
+  expectColor(ImageCache::readImage(grey, false).lookup(0.1, 0.9), {0.2, 0.2, 0.2});
+}
+
+TEST_F(ImageCacheTest, LoadsEachPathOnce) {
+  Scene scene;
+  std::string path = writePng();
+  scene.images.push_back({path, {}});
+  scene.images.push_back({path, {}});
+  ImageCache cache(false);
+  cache.load(scene);
+  EXPECT_EQ(cache.size(), 1u);
+  const TextureImage *first = cache.find(path);
+  ASSERT_NE(first, nullptr);
+  cache.load(scene); // next frame: nothing reloaded, pointers stay valid
+  EXPECT_EQ(cache.find(path), first);
+  EXPECT_EQ(cache.find(path + ".other"), nullptr);
+  EXPECT_GE(cache.memoryBytes(), 12 * sizeof(float));
+}
+
+TEST_F(ImageCacheTest, MissingImageIsASceneErrorNamingPathAndLine) {
+  Scene scene;
+  std::string path = (dir_ / "nope.png").string();
+  scene.images.push_back({path, {"scene.lua", 12}});
+  ImageCache cache(false);
+  try {
+    cache.load(scene);
+    FAIL() << "expected SceneError";
+  } catch (const SceneError &e) {
+    std::string what = e.what();
+    EXPECT_NE(what.find("scene.lua:12"), std::string::npos) << what;
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+  }
+}
+
+TEST_F(ImageCacheTest, UnreadableImageIsASceneError) {
+  std::string path = (dir_ / "garbage.png").string();
+  FILE *f = std::fopen(path.c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  std::fputs("this is not a png", f);
+  std::fclose(f);
+  EXPECT_THROW(ImageCache::readImage(path, false), SceneError);
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,496 @@
+// Tests for src/shading/integrator: the shading equation of SPEC 7 in
+// analytic configurations (lit sphere, shadow, mirror, absorbing slab, total
+// internal reflection, recursion limits, area-light soft shadows), traced
+// through a brute-force test accelerator.
+#include "shading/integrator.h"
+
+#include "shading/brute_force_accelerator.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+
+namespace lray {
+namespace {
+
+using testing::BruteForceAccelerator;
+using Integ = Integrator<BruteForceAccelerator>;
+
+const Color kRed{1, 0, 0};
+const Color kSky{0.2, 0.4, 0.8};
+
+void expectColor(const Color &a, const Color &b, double tol = 1e-9) {
+  EXPECT_NEAR(a.r, b.r, tol);
+  EXPECT_NEAR(a.g, b.g, tol);
+  EXPECT_NEAR(a.b, b.b, tol);
+}
+
+/// Finish that only emits its ambient term.
+Finish ambientOnly(double a = 1) {
+  Finish f;
+  f.ambient = {a, a, a};
+  f.diffuse = 0;
+  f.specular = 0;
+  return f;
+}
+
+/// Finish that only carries light onward (no local term).
+Finish dark() { return ambientOnly(0); }
+
+struct SceneBuilder {
+  Scene scene;
+
+  uint32_t texture(const Finish &finish, const Color &color = {1, 1, 1}) {
+    Pigment p;
+    p.color = color;
+    scene.pigments.push_back(p);
+    scene.textures.push_back({finish, static_cast<uint32_t>(scene.pigments.size() - 1)});
+    return static_cast<uint32_t>(scene.textures.size() - 1);
+  }
+  void add(ShapeKind kind, const Transform &t, uint32_t texture) {
+    Entity e;
+    e.kind = kind;
+    e.worldFromObject = t;
+    e.texture = texture;
+    scene.entities.push_back(e);
+  }
+  /// A square from -1 to 1 in x and z at y = 0, normal +y, placed by t.
+  void quad(const Transform &t, uint32_t texture) {
+    auto mesh = std::make_shared<MeshData>();
+    mesh->positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
+    MeshTriangle a{{0, 2, 1}}, b{{0, 3, 2}};
+    mesh->triangles = {a, b};
+    Entity e;
+    e.kind = ShapeKind::Mesh;
+    e.worldFromObject = t;
+    e.texture = texture;
+    e.mesh = mesh;
+    scene.entities.push_back(e);
+  }
+  void light(const Transform &t, const Color &c = {1, 1, 1}, int rows = 1, int cols = 1,
+             bool area = false) {
+    Light l;
+    l.worldFromLight = t;
+    l.color = c;
+    l.rows = rows;
+    l.cols = cols;
+    l.area = area;
+    scene.lights.push_back(l);
+  }
+};
+
+struct Traced {
+  Color color;
+  RayCounts counts;
+};
+
+/// Parameterised over the test accelerator's shape code: false = its own
+/// analytic oracle, true = the shared geometry/shape.h the backends use.
+class IntegratorTest : public ::testing::TestWithParam<bool> {
+protected:
+  /// Traces one ray through the scene; returns its colour and the ray counts.
+  Traced traceOnce(const Scene &scene, const Ray &ray, uint64_t samplerKey = 1) const {
+    BruteForceAccelerator accel(scene, GetParam());
+    ImageCache images(false);
+    Integ integrator(scene, accel, images);
+    Sampler sampler(0, samplerKey, 0);
+    Traced out;
+    out.color = integrator.trace(ray, sampler, out.counts);
+    return out;
+  }
+};
+
+Ray rayFrom(const Vec3 &o, const Vec3 &d) { return {o, d}; }
+
+TEST_P(IntegratorTest, LitSphereHeadOn) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.light(Transform::translate({0, 0, -10}));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+  // ambient 0.02 + diffuse 0.6 * N.L 1 + specular 0.1 * (R.V = 1)^1
+  expectColor(r.color, {0.72, 0.72, 0.72});
+  EXPECT_EQ(r.counts.shadow, 1u);
+  EXPECT_EQ(r.counts.reflection + r.counts.refraction, 0u);
+}
+
+TEST_P(IntegratorTest, LitSphereObliqueWithColours) {
+  SceneBuilder b;
+  Finish f;
+  f.exponent = 2;
+  Color pigment{0.5, 1, 0.25};
+  b.add(ShapeKind::Sphere, Transform(), b.texture(f, pigment));
+  Color lc{1, 0.5, 0.25};
+  b.light(Transform::translate({1, 0, -2}), lc);
+  // Ray direction need not be unit length.
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 3}));
+  // Hit (0,0,-1), N = -z, L = (1,0,-1)/sqrt2: N.L = 1/sqrt2; R = (-1,0,-1)/sqrt2, R.V = 1/sqrt2.
+  double nl = 1 / std::sqrt(2.0), spec = 0.1 * 0.5;
+  Color expected = pigment * f.ambient + lc * (pigment * (0.6 * nl) + Color(spec, spec, spec));
+  expectColor(r.color, expected);
+}
+
+TEST_P(IntegratorTest, SpecularExponentIsAPower) {
+  for (double e : {0.0, 1.0, 2.0, 2.5, 7.0, 64.0, 70.0}) {
+    SceneBuilder b;
+    Finish f = dark();
+    f.specular = 0.5;
+    f.exponent = e;
+    b.add(ShapeKind::Sphere, Transform(), b.texture(f));
+    b.light(Transform::translate({1, 0, -2}));
+    // R.V = 1/sqrt2 as in the oblique test above.
+    double expected = 0.5 * std::pow(std::sqrt(0.5), e);
+    Color got = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1})).color;
+    EXPECT_NEAR(got.r, expected, 1e-12 * std::max(1.0, expected)) << "exponent " << e;
+  }
+}
+
+TEST_P(IntegratorTest, LightBehindTheSurfaceCastsNoShadowRay) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.light(Transform::translate({0, 0, 10}));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+  expectColor(r.color, {0.02, 0.02, 0.02});
+  EXPECT_EQ(r.counts.shadow, 0u);
+}
+
+TEST_P(IntegratorTest, LightsDoNotFallOffWithDistance) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.light(Transform::translate({0, 0, -1000}));
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1})).color, {0.72, 0.72, 0.72});
+}
+
+TEST_P(IntegratorTest, ShadowedPointGetsOnlyAmbient) {
+  for (bool refractingBlocker : {false, true}) {
+    SceneBuilder b;
+    b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+    Finish glass = dark();
+    if (refractingBlocker) {
+      glass.refraction = 1;
+      glass.refractionIndex = 1.5;
+    }
+    // Blocker on the segment from the hit (0,0,-1) to the light (-10,0,-10).
+    b.add(ShapeKind::Sphere,
+          Transform::translate({-5, 0, -5.5}) * Transform::scale(0.5, 0.5, 0.5), b.texture(glass));
+    b.light(Transform::translate({-10, 0, -10}));
+    Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+    expectColor(r.color, {0.02, 0.02, 0.02});
+    EXPECT_EQ(r.counts.shadow, 1u);
+  }
+  // Control: without the blocker the point is lit.
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.light(Transform::translate({-10, 0, -10}));
+  EXPECT_GT(traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1})).color.r, 0.3);
+}
+
+TEST_P(IntegratorTest, ShadowRayEndsAtTheLight) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  // An object beyond the light must not shadow.
+  b.add(ShapeKind::Sphere, Transform::translate({0, 0, -20}), b.texture(Finish{}));
+  b.light(Transform::translate({0, 0, -10}));
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1})).color, {0.72, 0.72, 0.72});
+}
+
+TEST_P(IntegratorTest, MissReturnsBackgroundAndLightsAreInvisible) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  b.light(Transform::translate({0, 0, 5}));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  expectColor(r.color, kSky);
+}
+
+TEST_P(IntegratorTest, MirrorReflectsAKnownColour) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish mirror = dark();
+  mirror.reflection = 0.8;
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 5}) * Transform::scale(10, 10, 1),
+        b.texture(mirror));
+  b.add(ShapeKind::Sphere, Transform::translate({0, 0, -5}), b.texture(ambientOnly(), kRed));
+  b.light(Transform::translate({0, 3, 0})); // no shadow ray: nothing has diffuse/specular
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  expectColor(r.color, kRed * 0.8);
+  EXPECT_EQ(r.counts.reflection, 1u);
+  EXPECT_EQ(r.counts.shadow, 0u);
+}
+
+TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
+  SceneBuilder b;
+  Finish mirror;
+  mirror.reflection = 0.5;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(mirror, {0.3, 0.6, 0.9}));
+  b.add(ShapeKind::Sphere, Transform::translate({0, 0, -5}), b.texture(Finish{}, kRed));
+  b.light(Transform::translate({2, 3, -6}), {1, 1, 1}, 2, 2, true);
+  BruteForceAccelerator accel(b.scene, GetParam());
+  ImageCache images(false);
+  Integ integrator(b.scene, accel, images);
+  Ray ray = rayFrom({0.2, 0.1, -3}, {0, 0, 1});
+  Hit hit;
+  ASSERT_TRUE(accel.intersect(ray, hit));
+  Sampler s1(3, 4, 5), s2(3, 4, 5);
+  RayCounts c1, c2;
+  Color a = integrator.shadeHit(ray, hit, s1, c1);
+  Color t = integrator.trace(ray, s2, c2);
+  EXPECT_EQ(a, t);
+  EXPECT_EQ(c1.shadow, c2.shadow);
+  EXPECT_EQ(c1.reflection, 1u);
+}
+
+TEST_P(IntegratorTest, RefractingSlabAbsorbsAlongItsThickness) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish glass = dark();
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0.5;
+  // Slab between z = 4 and z = 6.
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 5}) * Transform::scale(40, 40, 2),
+        b.texture(glass));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  expectColor(r.color, kSky * std::exp(-0.5 * 2), 1e-7);
+  EXPECT_EQ(r.counts.refraction, 2u); // in, then out
+  EXPECT_EQ(r.counts.reflection, 0u);
+
+  // At 45 degrees Snell bends the ray: sin t = sin 45 / 1.5, path = 2 / cos t.
+  double sinT = std::sqrt(0.5) / 1.5, cosT = std::sqrt(1 - sinT * sinT);
+  Traced o = traceOnce(b.scene, rayFrom({0, 0, 0}, {1, 0, 1}));
+  expectColor(o.color, kSky * std::exp(-0.5 * 2 / cosT), 1e-7);
+}
+
+TEST_P(IntegratorTest, RefractionBendsByIndexAndStraightensOnExit) {
+  SceneBuilder b;
+  Finish glass = dark();
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0;
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 5}) * Transform::scale(40, 40, 2),
+        b.texture(glass));
+  // A red target where the exiting ray (parallel to the incoming one, shifted
+  // by the slab) lands: x at exit = 4 + 2 tan t, then 45 degrees again.
+  double sinT = std::sqrt(0.5) / 1.5, tanT = sinT / std::sqrt(1 - sinT * sinT);
+  double xAt10 = 4 + 2 * tanT + 4;
+  b.add(ShapeKind::Sphere,
+        Transform::translate({xAt10, 0, 10}) * Transform::scale(0.05, 0.05, 0.05),
+        b.texture(ambientOnly(), kRed));
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 0}, {1, 0, 1})).color, kRed);
+  // The unbent path (index 1) would miss the target.
+  b.scene.textures[0].finish.refractionIndex = 1;
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 0}, {1, 0, 1})).color, {0, 0, 0});
+}
+
+TEST_P(IntegratorTest, TotalInternalReflectionFollowsTheMirrorRay) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish glass = dark();
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0;
+  // Glass surface y = 0 with outward normal +y; rays arrive from below (inside).
+  b.quad(Transform::scale(10, 1, 10), b.texture(glass));
+  b.add(ShapeKind::Sphere, Transform::translate({4 * std::sin(std::numbers::pi / 3), -2, 0}) *
+                               Transform::scale(0.5, 0.5, 0.5),
+        b.texture(ambientOnly(), kRed));
+  // 60 degrees from the normal, beyond the critical angle asin(1/1.5) = 41.8.
+  Vec3 d60{std::sin(std::numbers::pi / 3), std::cos(std::numbers::pi / 3), 0};
+  Traced tir = traceOnce(b.scene, rayFrom(-d60 * 2, d60));
+  expectColor(tir.color, kRed);
+  EXPECT_EQ(tir.counts.refraction, 0u);
+  EXPECT_EQ(tir.counts.reflection, 1u);
+
+  // 20 degrees: leaves the glass (d = 0, no absorption) to the sky.
+  Vec3 d20{std::sin(std::numbers::pi / 9), std::cos(std::numbers::pi / 9), 0};
+  Traced out = traceOnce(b.scene, rayFrom(-d20 * 2, d20));
+  expectColor(out.color, kSky);
+  EXPECT_EQ(out.counts.refraction, 1u);
+  EXPECT_EQ(out.counts.reflection, 0u);
+}
+
+TEST_P(IntegratorTest, LeavingRayIsNotAttenuated) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish glass = dark();
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 3;
+  b.quad(Transform::scale(10, 1, 10), b.texture(glass));
+  // From below the surface (inside) straight out: d = 0.
+  expectColor(traceOnce(b.scene, rayFrom({0, -1, 0}, {0, 1, 0})).color, kSky);
+  // From above (entering) and then to the sky below: open surface, no next
+  // hit, so nothing absorbs either.
+  expectColor(traceOnce(b.scene, rayFrom({0, 1, 0}, {0, -1, 0})).color, kSky);
+}
+
+TEST_P(IntegratorTest, RecursionStopsAtDepth16) {
+  SceneBuilder b;
+  Finish mirror = ambientOnly(0.01);
+  mirror.reflection = 1;
+  // Two facing mirrors at z = -1.5 and z = 1.5 (cube faces).
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 2}), b.texture(mirror));
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, -2}), b.texture(mirror));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  EXPECT_EQ(r.counts.reflection, 16u);
+  expectColor(r.color, Color(0.17, 0.17, 0.17), 1e-12); // 17 shaded hits, weight 1 each
+}
+
+TEST_P(IntegratorTest, RecursionStopsWhenTheWeightFallsBelowBailout) {
+  SceneBuilder b;
+  Finish mirror = dark();
+  mirror.reflection = 0.5;
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 2}), b.texture(mirror));
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, -2}), b.texture(mirror));
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  // 0.5^7 = 1/128 >= 1/255 is traced; 0.5^8 = 1/256 is not.
+  EXPECT_EQ(r.counts.reflection, 7u);
+}
+
+/// Floor at y = 0 (diffuse 1 only), 4x4 light of side 4 at y = 10, and a
+/// blocker covering x > 0 at y = 5: exactly the cells with x > 0 are hidden
+/// from the origin.
+Scene softShadowScene(bool area, bool blocker) {
+  SceneBuilder b;
+  Finish f = dark();
+  f.diffuse = 1;
+  b.quad(Transform::scale(20, 1, 20), b.texture(f));
+  if (blocker) {
+    b.add(ShapeKind::Cube, Transform::translate({5, 5, 0}) * Transform::scale(10, 1, 10),
+          b.texture(dark()));
+  }
+  b.light(Transform::translate({0, 10, 0}) * Transform::scale(4, 1, 4), {1, 1, 1}, 4, 4, area);
+  return b.scene;
+}
+
+TEST_P(IntegratorTest, AreaLightSoftShadowFractionAtCellCentres) {
+  Ray down = rayFrom({0, 1, 0}, {0, -1, 0});
+  double expected = 0, unblocked = 0;
+  for (double x : {-1.5, -0.5, 0.5, 1.5}) {
+    for (double z : {-1.5, -0.5, 0.5, 1.5}) {
+      double nl = 10 / std::sqrt(x * x + 100 + z * z);
+      unblocked += nl / 16;
+      if (x < 0) expected += nl / 16;
+    }
+  }
+  Traced lit = traceOnce(softShadowScene(false, false), down);
+  expectColor(lit.color, Color(1, 1, 1) * unblocked, 1e-12);
+  Traced half = traceOnce(softShadowScene(false, true), down);
+  expectColor(half.color, Color(1, 1, 1) * expected, 1e-12);
+  EXPECT_EQ(half.counts.shadow, 16u);
+}
+
+TEST_P(IntegratorTest, LightCellsRunAlongLocalXAndZ) {
+  // Blocker over x > 0.2 at y = 5 hides light-plane points with x > 0.4 from
+  // the origin. cols = 2 puts samples at x = -1 and 1 (one hidden); rows = 2
+  // puts both at x = 0, z = -1 and 1 (none hidden).
+  auto scene = [](int rows, int cols) {
+    SceneBuilder b;
+    Finish f = dark();
+    f.diffuse = 1;
+    b.quad(Transform::scale(20, 1, 20), b.texture(f));
+    b.add(ShapeKind::Cube, Transform::translate({5.2, 5, 0}) * Transform::scale(10, 1, 10),
+          b.texture(dark()));
+    b.light(Transform::translate({0, 10, 0}) * Transform::scale(4, 1, 4), {1, 1, 1}, rows, cols);
+    return b.scene;
+  };
+  Ray down = rayFrom({0, 1, 0}, {0, -1, 0});
+  double nl = 10 / std::sqrt(101.0);
+  EXPECT_NEAR(traceOnce(scene(1, 2), down).color.r, 0.5 * nl, 1e-12);
+  EXPECT_NEAR(traceOnce(scene(2, 1), down).color.r, nl, 1e-12);
+}
+
+TEST_P(IntegratorTest, JitteredAreaLightIsStratifiedAndDeterministic) {
+  Ray down = rayFrom({0, 1, 0}, {0, -1, 0});
+  Scene scene = softShadowScene(true, true);
+  Traced a = traceOnce(scene, down, 11);
+  Traced again = traceOnce(scene, down, 11);
+  Traced other = traceOnce(scene, down, 12);
+  EXPECT_EQ(a.color, again.color);
+  EXPECT_NE(a.color, other.color);
+  // Stratified: every jittered sample stays in its cell, so exactly the 8
+  // cells with x < 0 contribute, each with N.L in [10/sqrt(108), 1].
+  for (const Traced &t : {a, other}) {
+    EXPECT_GE(t.color.r, 0.5 * 10 / std::sqrt(108.0));
+    EXPECT_LE(t.color.r, 0.5);
+  }
+  // Averaged over many samplers the fraction of the unshadowed value is 1/2.
+  Scene open = softShadowScene(true, false);
+  double shadowed = 0, full = 0;
+  for (uint64_t k = 0; k < 200; ++k) {
+    shadowed += traceOnce(scene, down, k).color.r;
+    full += traceOnce(open, down, k).color.r;
+  }
+  EXPECT_NEAR(shadowed / full, 0.5, 0.02);
+}
+
+TEST_P(IntegratorTest, ExtremeFinishValuesStayFinite) {
+  SceneBuilder b;
+  Finish f;
+  f.exponent = -2; // pow(0, -2) would be inf
+  f.specular = 1;
+  f.absorption = 0;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(f));
+  b.light(Transform::translate({0, 0, -10}));
+  b.light(Transform::translate({10, 0, 0}));
+  for (double ex : {0.0, -2.0, 1e6}) {
+    b.scene.textures[0].finish.exponent = ex;
+    for (Vec3 d : {Vec3(0, 0, 1), Vec3(0.1, 0.2, 1), Vec3(0.7, 0, 1)}) {
+      EXPECT_TRUE(isFinite(traceOnce(b.scene, rayFrom({0, 0, -5}, d)).color));
+    }
+  }
+}
+
+TEST_P(IntegratorTest, ImagePigmentThroughTheCache) {
+  // A 2x1 image: left texel (0.2, 0.4, 0.6) as 8-bit, right black.
+  std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("lray_integrator_image_test_" + std::to_string(GetParam()) + ".png"))
+          .string();
+  {
+    const uint8_t px[] = {51, 102, 153, 0, 0, 0};
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(2, 1, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+    out->close();
+  }
+  SceneBuilder b;
+  b.scene.images.push_back({path, {}});
+  uint32_t tex = b.texture(ambientOnly());
+  b.scene.pigments[b.scene.textures[tex].pigment].kind = Pigment::Kind::Image2D;
+  b.add(ShapeKind::Sphere, Transform(), tex);
+  BruteForceAccelerator accel(b.scene, GetParam());
+  ImageCache images(false);
+  images.load(b.scene);
+  std::filesystem::remove(path);
+  Integ integrator(b.scene, accel, images);
+  // The sphere's front point (0,0,-1) has uv (0.25, 0.5): the left texel's centre.
+  Sampler sampler;
+  RayCounts counts;
+  Color c = integrator.trace(rayFrom({0, 0, -5}, {0, 0, 1}), sampler, counts);
+  expectColor(c, {0.2, 0.4, 0.6}, 1e-6);
+}
+
+TEST_P(IntegratorTest, MissingImageIsReported) {
+  SceneBuilder b;
+  b.scene.images.push_back({"/nonexistent/tex.png", {"s.lua", 3}});
+  BruteForceAccelerator accel(b.scene, GetParam());
+  ImageCache images(false);
+  EXPECT_THROW(
+      {
+        Integ integrator(b.scene, accel, images);
+        (void)integrator;
+      },
+      SceneError);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, IntegratorTest, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool> &param) {
+                           return param.param ? "SharedShapeCode" : "LocalShapes";
+                         });
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,402 @@
+// Pipeline: acceleration (Embree backend). Every rtc* call of the program
+// lives in this file. The scene is one top-level Embree scene holding
+//  - one user geometry whose primitives are the analytic entities (its
+//    callbacks only forward to geometry/shape.h), and
+//  - one instance per mesh entity (geometry ID = entity index) of a
+//    triangle scene built once per distinct MeshData over shared buffers;
+//    a mesh whose only user has the identity transform is attached
+//    directly instead (same ID), saving the instance level on every ray.
+// Queries carry the caller's double-precision rays in an extended
+// RTCIntersectContext, so analytic shapes are intersected exactly as the
+// kd-tree does and the callback's Hit is the one returned (no recomputation).
+#include "accel/embree/embree_accelerator.h"
+
+#include "geometry/shape.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace lray {
+
+namespace {
+
+constexpr float kInfinityF = std::numeric_limits<float>::infinity();
+
+/// Embree's context followed by what the shape callbacks need. Rays are
+/// found by RTCRay::id, which is their index in `rays` (Embree may split
+/// packets, so the lane index is not reliable).
+struct QueryContext {
+  RTCIntersectContext base; // must stay first: Embree passes &base back
+  const Ray *rays = nullptr;
+  Hit *hits = nullptr;       ///< intersect only: where an accepted analytic hit goes
+  double *bestT = nullptr;   ///< intersect only: t of the closest analytic hit so far
+};
+
+float roundDown(double x) {
+  auto f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -kInfinityF) : f;
+}
+
+float roundUp(double x) {
+  auto f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, kInfinityF) : f;
+}
+
+/// Embree's single-precision view of a ray: the valid interval is rounded
+/// outwards so Embree's culling never drops what the double test accepts.
+void toEmbree(const Ray &r, float &ox, float &oy, float &oz, float &dx, float &dy,
+              float &dz, float &tnear, float &tfar) {
+  ox = static_cast<float>(r.o.x);
+  oy = static_cast<float>(r.o.y);
+  oz = static_cast<float>(r.o.z);
+  dx = static_cast<float>(r.d.x);
+  dy = static_cast<float>(r.d.y);
+  dz = static_cast<float>(r.d.z);
+  tnear = std::max(0.0f, roundDown(r.tMin));
+  tfar = roundUp(r.tMax);
+}
+
+} // namespace
+
+/// Embree callbacks. None of them throws (the shape code does not) and none
+/// allocates.
+struct EmbreeCallbacks {
+  static void error(void *user, RTCError code, const char *message) {
+    auto *self = static_cast<EmbreeAccelerator *>(user);
+    int expected = 0;
+    // Keep the first error; copy without allocating (nothing may throw here).
+    if (self->errorCode_.compare_exchange_strong(expected, static_cast<int>(code)))
+      std::snprintf(self->errorMessage_, sizeof self->errorMessage_, "%s",
+                    message ? message : "unknown error");
+  }
+
+  static bool memory(void *user, ssize_t bytes, bool /*post*/) {
+    static_cast<EmbreeAccelerator *>(user)->embreeBytes_ += bytes;
+    return true;
+  }
+
+  static void bounds(const RTCBoundsFunctionArguments *args) {
+    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
+    Bounds3 b = shapeWorldBounds(*shapes[args->primID].entity);
+    RTCBounds *o = args->bounds_o;
+    o->lower_x = roundDown(b.lo.x);
+    o->lower_y = roundDown(b.lo.y);
+    o->lower_z = roundDown(b.lo.z);
+    o->upper_x = roundUp(b.hi.x);
+    o->upper_y = roundUp(b.hi.y);
+    o->upper_z = roundUp(b.hi.z);
+  }
+
+  static void intersect(const RTCIntersectFunctionNArguments *args) {
+    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &shape = shapes[args->primID];
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN *hits = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned i = 0; i < n; ++i) {
+      if (!args->valid[i]) continue;
+      unsigned id = RTCRayN_id(rays, n, i);
+      Ray r = ctx->rays[id];
+      // Closer than both the best analytic hit (double) and whatever
+      // Embree has accepted since (a triangle's float t).
+      r.tMax = std::min(std::min(r.tMax, ctx->bestT[id]),
+                        static_cast<double>(RTCRayN_tfar(rays, n, i)));
+      Hit h;
+      if (!intersectShape(*shape.entity, shape.index, r, h)) continue;
+      ctx->bestT[id] = h.t;
+      ctx->hits[id] = h;
+      RTCRayN_tfar(rays, n, i) = roundUp(h.t);
+      RTCHitN_Ng_x(hits, n, i) = static_cast<float>(h.ng.x);
+      RTCHitN_Ng_y(hits, n, i) = static_cast<float>(h.ng.y);
+      RTCHitN_Ng_z(hits, n, i) = static_cast<float>(h.ng.z);
+      RTCHitN_u(hits, n, i) = static_cast<float>(h.u);
+      RTCHitN_v(hits, n, i) = static_cast<float>(h.v);
+      RTCHitN_primID(hits, n, i) = args->primID;
+      RTCHitN_geomID(hits, n, i) = args->geomID;
+      RTCHitN_instID(hits, n, i, 0) = args->context->instID[0];
+    }
+  }
+
+  static void occluded(const RTCOccludedFunctionNArguments *args) {
+    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &shape = shapes[args->primID];
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+      if (!args->valid[i]) continue;
+      float &tfar = RTCRayN_tfar(args->ray, n, i);
+      if (tfar < 0) continue; // already occluded
+      Ray r = ctx->rays[RTCRayN_id(args->ray, n, i)];
+      r.tMax = std::min(r.tMax, static_cast<double>(tfar));
+      if (occludedShape(*shape.entity, r)) tfar = -kInfinityF;
+    }
+  }
+};
+
+namespace {
+
+/// After Embree: the Hit for a closest hit it reported (meshes through the
+/// shared triangle code; analytic hits were written by the callback).
+/// Geometry IDs: a mesh instance or directly attached mesh has its entity's
+/// index; the analytic user geometry has ID entities.size().
+bool finishHit(const Scene &scene, unsigned geomID, unsigned instID, unsigned primID, float tfar,
+               float u, float v, const Ray &ray, Hit &hit) {
+  if (geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  unsigned entity = instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID;
+  if (entity < scene.entities.size())
+    fillTriangleHit(scene.entities[entity], entity, primID, tfar, u, v, ray, hit);
+  return true;
+}
+
+} // namespace
+
+EmbreeAccelerator::EmbreeAccelerator(const Scene &scene) : scene_(scene) {
+  auto start = std::chrono::steady_clock::now();
+  try {
+    build();
+  } catch (...) {
+    release();
+    throw;
+  }
+  stats_.buildSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeAccelerator::~EmbreeAccelerator() { release(); }
+
+void EmbreeAccelerator::release() {
+  for (RTCScene s : meshScenes_) rtcReleaseScene(s);
+  meshScenes_.clear();
+  if (root_) rtcReleaseScene(root_);
+  root_ = nullptr;
+  if (device_) rtcReleaseDevice(device_);
+  device_ = nullptr;
+}
+
+void EmbreeAccelerator::build() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("Embree: cannot create a device");
+  rtcSetDeviceErrorFunction(device_, &EmbreeCallbacks::error, this);
+  rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeCallbacks::memory, this);
+
+  auto newScene = [this] {
+    RTCScene s = rtcNewScene(device_);
+    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_MEDIUM);
+    return s;
+  };
+  root_ = newScene();
+
+  const auto &entities = scene_.entities;
+  // Triangle geometry over the MeshData's own buffers.
+  size_t ownedBytes = 0;
+  auto triangleGeometry = [&](const MeshData &mesh) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree reads 16 bytes at each vertex: the buffer must extend 4 bytes
+    // past the last Vec3f. Use the vector's spare capacity if it has some,
+    // else copy once.
+    const Vec3f *positions = mesh.positions.data();
+    if (mesh.positions.capacity() == mesh.positions.size()) {
+      auto &copy = paddedPositions_.emplace_back(mesh.positions.size() + 1);
+      std::copy(mesh.positions.begin(), mesh.positions.end(), copy.begin());
+      ownedBytes += copy.size() * sizeof(Vec3f);
+      positions = copy.data();
+    }
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions, 0,
+                               sizeof(Vec3f), mesh.positions.size());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               mesh.triangleIndices.data(), 0, 3 * sizeof(uint32_t),
+                               mesh.triangleIndices.size() / 3);
+    rtcCommitGeometry(g);
+    stats_.primitives += mesh.triangleIndices.size() / 3;
+    return g;
+  };
+
+  std::unordered_map<const MeshData *, size_t> uses;
+  for (const Entity &e : entities)
+    if (e.kind == ShapeKind::Mesh && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
+
+  std::unordered_map<const MeshData *, RTCScene> meshScene;
+  for (size_t i = 0; i < entities.size(); ++i) {
+    const Entity &e = entities[i];
+    auto id = static_cast<unsigned>(i);
+    if (e.kind != ShapeKind::Mesh) {
+      shapeRefs_.push_back({&e, id});
+      continue;
+    }
+    if (!e.mesh || e.mesh->triangles.empty()) continue;
+    const MeshData &mesh = *e.mesh;
+    if (uses[&mesh] == 1 && e.worldFromObject.isIdentity()) {
+      // Sole, untransformed user of its mesh: no instance level to cross.
+      RTCGeometry g = triangleGeometry(mesh);
+      rtcAttachGeometryByID(root_, g, id);
+      rtcReleaseGeometry(g);
+      continue;
+    }
+    RTCScene &ms = meshScene[&mesh];
+    if (!ms) {
+      ms = newScene();
+      meshScenes_.push_back(ms);
+      RTCGeometry g = triangleGeometry(mesh);
+      rtcAttachGeometryByID(ms, g, 0);
+      rtcReleaseGeometry(g);
+      rtcCommitScene(ms);
+    }
+    RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, ms);
+    const auto &m = e.worldFromObject.matrix().m;
+    float xfm[12];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) xfm[4 * r + c] = static_cast<float>(m[r][c]);
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+    rtcCommitGeometry(inst);
+    rtcAttachGeometryByID(root_, inst, id);
+    rtcReleaseGeometry(inst);
+    ++stats_.instances;
+  }
+
+  if (!shapeRefs_.empty()) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(shapeRefs_.size()));
+    rtcSetGeometryUserData(g, shapeRefs_.data());
+    rtcSetGeometryBoundsFunction(g, &EmbreeCallbacks::bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, &EmbreeCallbacks::intersect);
+    rtcSetGeometryOccludedFunction(g, &EmbreeCallbacks::occluded);
+    rtcCommitGeometry(g);
+    // An ID no mesh instance uses: the entity indices are taken.
+    rtcAttachGeometryByID(root_, g, static_cast<unsigned>(entities.size()));
+    rtcReleaseGeometry(g);
+    stats_.primitives += shapeRefs_.size();
+  }
+  rtcCommitScene(root_);
+
+  if (errorCode_.load() != 0)
+    throw std::runtime_error("Embree error " + std::to_string(errorCode_.load()) + ": " +
+                             std::string(errorMessage_));
+  ownedBytes += shapeRefs_.capacity() * sizeof(ShapeRef);
+  stats_.memoryBytes = static_cast<size_t>(std::max<std::ptrdiff_t>(0, embreeBytes_.load())) +
+                       ownedBytes;
+}
+
+bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
+  RTCRayHit rh;
+  toEmbree(ray, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
+           rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  double bestT = ray.tMax;
+  QueryContext ctx;
+  rtcInitIntersectContext(&ctx.base);
+  ctx.rays = &ray;
+  ctx.hits = &hit;
+  ctx.bestT = &bestT;
+  rtcIntersect1(root_, &ctx.base, &rh);
+  return finishHit(scene_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, rh.hit.u,
+                   rh.hit.v, ray, hit);
+}
+
+bool EmbreeAccelerator::occluded(const Ray &ray) const {
+  RTCRay r;
+  toEmbree(ray, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
+  r.time = 0;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  QueryContext ctx;
+  rtcInitIntersectContext(&ctx.base);
+  ctx.rays = &ray;
+  rtcOccluded1(root_, &ctx.base, &r);
+  return r.tfar < 0;
+}
+
+void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
+                                          uint8_t *found) const {
+  for (size_t base = 0; base < count; base += 8) {
+    size_t lanes = std::min<size_t>(8, count - base);
+    alignas(32) int valid[8];
+    alignas(32) RTCRayHit8 rh;
+    double bestT[8];
+    for (unsigned i = 0; i < 8; ++i) {
+      valid[i] = i < lanes ? -1 : 0;
+      const Ray &r = rays[base + (i < lanes ? i : 0)];
+      toEmbree(r, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+               rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+      rh.ray.time[i] = 0;
+      rh.ray.mask[i] = 0xFFFFFFFFu;
+      rh.ray.id[i] = i;
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      bestT[i] = r.tMax;
+    }
+    QueryContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    ctx.rays = rays + base;
+    ctx.hits = hits + base;
+    ctx.bestT = bestT;
+    rtcIntersect8(valid, root_, &ctx.base, &rh);
+    // The hit records read MeshData that Embree never touched (it keeps its
+    // own vertex copies): start those cache misses for all lanes at once.
+    const MeshData *meshes[8] = {};
+    for (unsigned i = 0; i < lanes; ++i) {
+      unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
+                                                                    : rh.hit.geomID[i];
+      if (id >= scene_.entities.size()) continue;
+      meshes[i] = scene_.entities[id].mesh.get();
+      __builtin_prefetch(&meshes[i]->triangles[rh.hit.primID[i]]);
+    }
+    for (unsigned i = 0; i < lanes; ++i) {
+      if (!meshes[i]) continue;
+      const MeshTriangle &t = meshes[i]->triangles[rh.hit.primID[i]];
+      for (int k = 0; k < 3; ++k) {
+        __builtin_prefetch(&meshes[i]->positions[t.v[k]]);
+        if (t.n[k] >= 0) __builtin_prefetch(&meshes[i]->normals[t.n[k]]);
+      }
+    }
+    for (unsigned i = 0; i < lanes; ++i)
+      found[base + i] = finishHit(scene_, rh.hit.geomID[i], rh.hit.instID[0][i], rh.hit.primID[i],
+                                  rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i], rays[base + i],
+                                  hits[base + i])
+                            ? 1
+                            : 0;
+  }
+}
+
+void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
+  for (size_t base = 0; base < count; base += 8) {
+    size_t lanes = std::min<size_t>(8, count - base);
+    alignas(32) int valid[8];
+    alignas(32) RTCRay8 r8;
+    for (unsigned i = 0; i < 8; ++i) {
+      valid[i] = i < lanes ? -1 : 0;
+      const Ray &r = rays[base + (i < lanes ? i : 0)];
+      toEmbree(r, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i], r8.dir_z[i],
+               r8.tnear[i], r8.tfar[i]);
+      r8.time[i] = 0;
+      r8.mask[i] = 0xFFFFFFFFu;
+      r8.id[i] = i;
+      r8.flags[i] = 0;
+    }
+    QueryContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    ctx.rays = rays + base;
+    rtcOccluded8(valid, root_, &ctx.base, &r8);
+    for (unsigned i = 0; i < lanes; ++i) occluded[base + i] = r8.tfar[i] < 0 ? 1 : 0;
+  }
+}
+
+} // namespace lray

@@ -1,0 +1,2 @@
+# The Embree backend (included from src/accel/sources.cmake).
+list(APPEND LRAY_CORE_SOURCES src/accel/embree/embree_accelerator.cpp)

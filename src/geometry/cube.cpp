@@ -1,0 +1,78 @@
+// Pipeline: geometry. The unit cube in object space (SPEC 5 Cube): side 1,
+// centred at the origin, intersected as three slabs (Kay and Kajiya 1986).
+//
+// Face uv orientation: each face is seen from outside, upright, with u to
+// the right and v up in the left-handed frame of SPEC 2 (+y up); the top and
+// bottom faces have +z as "up". So, with (x, y, z) in [-0.5, 0.5]:
+//   -z: u = x + 0.5, v = y + 0.5     +z: u = 0.5 - x, v = y + 0.5
+//   +x: u = z + 0.5, v = y + 0.5     -x: u = 0.5 - z, v = y + 0.5
+//   +y: u = x + 0.5, v = z + 0.5     -y: u = 0.5 - x, v = z + 0.5
+#include "geometry/object_shapes.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace lray {
+
+bool intersectCube(const Ray &ray, ObjectHit &hit) {
+  double tNear = -std::numeric_limits<double>::infinity();
+  double tFar = std::numeric_limits<double>::infinity();
+  int nearPart = -1, farPart = -1;
+  for (int axis = 0; axis < 3; ++axis) {
+    double o = ray.o[axis], d = ray.d[axis];
+    if (d == 0) {
+      // Parallel to this slab: inside it (boundary included) or a miss.
+      if (o < -0.5 || o > 0.5) return false;
+      continue;
+    }
+    double tLo = (-0.5 - o) / d, tHi = (0.5 - o) / d;
+    int loPart = 2 * axis, hiPart = 2 * axis + 1;
+    if (tLo > tHi) {
+      std::swap(tLo, tHi);
+      std::swap(loPart, hiPart);
+    }
+    if (tLo > tNear) {
+      tNear = tLo;
+      nearPart = loPart;
+    }
+    if (tHi < tFar) {
+      tFar = tHi;
+      farPart = hiPart;
+    }
+  }
+  if (tNear > tFar || nearPart < 0) return false;
+  if (inOpenRange(ray, tNear)) {
+    hit.t = tNear;
+    hit.part = nearPart;
+    return true;
+  }
+  if (inOpenRange(ray, tFar)) {
+    hit.t = tFar;
+    hit.part = farPart;
+    return true;
+  }
+  return false;
+}
+
+ObjectSurface cubeSurface(const Ray &ray, const ObjectHit &hit) {
+  ObjectSurface s;
+  Vec3 p = ray.at(hit.t);
+  int axis = hit.part / 2;
+  double side = (hit.part & 1) ? 0.5 : -0.5;
+  for (int i = 0; i < 3; ++i) p[i] = std::clamp(p[i], -0.5, 0.5);
+  p[axis] = side;
+  s.p = p;
+  s.n = {0, 0, 0};
+  s.n[axis] = side > 0 ? 1 : -1;
+  switch (hit.part) {
+  case 0: s.u = 0.5 - p.z; s.v = p.y + 0.5; break; // -x
+  case 1: s.u = p.z + 0.5; s.v = p.y + 0.5; break; // +x
+  case 2: s.u = 0.5 - p.x; s.v = p.z + 0.5; break; // -y
+  case 3: s.u = p.x + 0.5; s.v = p.z + 0.5; break; // +y
+  case 4: s.u = p.x + 0.5; s.v = p.y + 0.5; break; // -z
+  default: s.u = 0.5 - p.x; s.v = p.y + 0.5; break; // +z
+  }
+  return s;
+}
+
+} // namespace lray

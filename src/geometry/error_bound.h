@@ -1,0 +1,70 @@
+// Pipeline: geometry (internal). The rule that gives Hit::pError, the bound
+// spawn.h pushes secondary ray origins off the surface by.
+//
+// A spawned ray can re-hit its own surface when the surface "seen" by the
+// next intersection test differs from the computed hit point by more than
+// the offset. The sources, all relative to the magnitudes involved:
+//  - the hit point itself (o + t d snapped to the surface, or barycentric
+//    interpolation), then multiplied by worldFromObject;
+//  - the next test's transform of the new origin back into object space
+//    (rounding of M^-1 p + its translation);
+//  - the next test's own arithmetic (quadric constant term o.o - 1, the
+//    triangle test's edge/normal products, about the size of the vertices);
+//  - for Embree triangle hits: the ray is single precision, so its origin is
+//    rounded to float, the instance transform is float and the triangle test
+//    runs in float.
+// Rule: with unit roundoff `eps` and safety factor `k`
+//   eObject = k eps (|pObject| + shapeScale + ||M^-1||_inf |p| + |translation of M^-1|)
+//   pError  = eObject S(M) + k eps (|p| + |translation of M|)
+// (|.| = largest absolute component; S(M) = sum of the absolute entries of
+// the linear part, >= its Frobenius norm >= its largest singular value), so
+// an object-space distance e maps to at most e S(M) in world
+// space, and spawn.h's offset pError * |n|_1 >= pError along the unit world
+// normal clears it. Analytic shapes are always intersected in double
+// precision (also under Embree, whose callbacks read the double ray), so
+// they use eps = 2^-53, k = 64; triangles use eps = 2^-24, k = 8, the bound
+// for Embree's single-precision rays (the kd-tree's double test is then
+// covered too).
+#pragma once
+
+#include "math/transform.h"
+#include "math/vec3.h"
+
+#include <cmath>
+
+namespace lray {
+
+constexpr double kDoubleRoundoff = 0x1p-53;
+constexpr double kFloatRoundoff = 0x1p-24;
+constexpr double kAnalyticErrorFactor = 64;
+constexpr double kTriangleErrorFactor = 8;
+
+inline double maxAbsComponent(const Vec3 &v) {
+  return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z)));
+}
+
+/// The rule above. `pObject` and `pWorld` are the hit point in both spaces;
+/// `shapeScale` the object-space size of the primitive (1 for the unit
+/// analytic shapes, the largest vertex coordinate for a triangle).
+inline double hitPointError(const Transform &worldFromObject, const Vec3 &pObject,
+                            const Vec3 &pWorld, double shapeScale, double eps, double k) {
+  const auto &m = worldFromObject.matrix().m;
+  const auto &inv = worldFromObject.inverseMatrix().m;
+  // sumAbs = sum of |m_ij| >= ||M||_F (cheaper than the square root).
+  double sumAbs = 0, invNorm = 0, tM = 0, tInv = 0;
+  for (int i = 0; i < 3; ++i) {
+    double row = 0;
+    for (int j = 0; j < 3; ++j) {
+      sumAbs += std::fabs(m[i][j]);
+      row += std::fabs(inv[i][j]);
+    }
+    invNorm = std::max(invNorm, row);
+    tM = std::max(tM, std::fabs(m[i][3]));
+    tInv = std::max(tInv, std::fabs(inv[i][3]));
+  }
+  double pw = maxAbsComponent(pWorld);
+  double eObject = k * eps * (maxAbsComponent(pObject) + shapeScale + invNorm * pw + tInv);
+  return eObject * sumAbs + k * eps * (pw + tM);
+}
+
+} // namespace lray

@@ -1,0 +1,190 @@
+// Robustness tests for the Embree backend with the shared geometry code:
+// watertightness of a closed mesh (pbrt-style probe) and self-intersection
+// of secondary rays spawned with geometry/spawn.h at extreme scales.
+#include "accel/embree/embree_accelerator.h"
+
+#include "accel_test_scenes.h"
+#include "geometry/spawn.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+namespace lray {
+namespace {
+
+using testing::makeJitteredSphere;
+using testing::makeMesh;
+using testing::meshEntity;
+using testing::shapeEntity;
+
+Vec3 randomDirection(std::mt19937_64 &rng) {
+  std::normal_distribution<double> n;
+  for (;;) {
+    Vec3 d{n(rng), n(rng), n(rng)};
+    double l = length(d);
+    if (l > 1e-6) return d / l;
+  }
+}
+
+Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
+
+TEST(EmbreeRobustness, ClosedMeshIsWatertight) {
+  auto mesh = makeJitteredSphere(4, 0.1, 7);
+  Scene s;
+  Transform xf = Transform::translate({0.3, -0.2, 0.1}) * Transform::rotate({1, 2, 3}, 37) *
+                 Transform::scale(2, 2, 2);
+  s.entities.push_back(meshEntity(mesh, xf));
+  EmbreeAccelerator accel(s);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<size_t> triPick(0, mesh->triangles.size() - 1);
+  std::uniform_int_distribution<int> cornerPick(0, 2);
+  const int n = 100000;
+  int missRandom = 0, missEdge = 0, missVertex = 0;
+  for (int i = 0; i < n; ++i) {
+    // Origins anywhere in the inner third of the (radius >= 0.9) sphere.
+    Vec3 o = xf.applyPoint(Vec3(u(rng), u(rng), u(rng)) * 0.3);
+    Hit h;
+    if (!accel.intersect({o, randomDirection(rng)}, h)) ++missRandom;
+    const MeshTriangle &t = mesh->triangles[triPick(rng)];
+    int c = cornerPick(rng);
+    Vec3 a = toVec3(mesh->positions[t.v[c]]), b = toVec3(mesh->positions[t.v[(c + 1) % 3]]);
+    Vec3 mid = xf.applyPoint((a + b) * 0.5);
+    if (!accel.intersect({o, mid - o}, h)) ++missEdge;
+    Vec3 vertex = xf.applyPoint(a);
+    if (!accel.intersect({o, vertex - o}, h)) ++missVertex;
+  }
+  std::printf("[watertight] %d rays each: random %d, edge midpoints %d, vertices %d misses\n", n,
+              missRandom, missEdge, missVertex);
+  EXPECT_EQ(missRandom, 0);
+  EXPECT_EQ(missEdge, 0);
+  // Embree 3.13.5's robust triangle test is watertight across edges but not
+  // exactly at vertices: used raw (float rays from float origins straight
+  // at vertices of this mesh) it misses about 300 in 1e5. Through this
+  // backend this probe measured 74 (AVX2 build); the bound allows for other
+  // ISAs' code paths while still catching a real hole (which would miss
+  // thousands).
+  EXPECT_LE(missVertex, 300);
+}
+
+/// Re-hits of entity 0 by rays spawned from hits on it; `rays` per hit
+/// point, directions outward only (convex shapes) or both ways (planes).
+struct SelfHitCount {
+  int spawned = 0;
+  int selfHits = 0;
+};
+
+void probe(const EmbreeAccelerator &accel, const Hit &hit, std::mt19937_64 &rng, int rays,
+           bool bothSides, double sceneSize, SelfHitCount &count) {
+  for (int k = 0; k < rays; ++k) {
+    Vec3 dir = randomDirection(rng);
+    if (!bothSides && dot(dir, hit.ng) < 0) dir = -dir;
+    Ray r = spawnRay(hit, dir * sceneSize);
+    Hit h2;
+    ++count.spawned;
+    if (accel.intersect(r, h2) && h2.entity == 0) ++count.selfHits;
+    if (accel.occluded(r)) ++count.selfHits;
+    // A shadow ray towards a point outside, on the ray's side.
+    Ray toTarget = spawnRayTo(hit, hit.p + dir * sceneSize);
+    if (accel.occluded(toTarget)) ++count.selfHits;
+  }
+}
+
+TEST(EmbreeRobustness, TrianglesDoNotSelfIntersectAtAnyScale) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1), mag(0.5, 1.5);
+  SelfHitCount count;
+  for (double scale : {1e-8, 1e-4, 1.0, 1e4, 1e8}) {
+    for (int variant = 0; variant < 4; ++variant) {
+      // Coordinates of magnitude `scale`, with the triangle's size either
+      // comparable to them or 1e-3 of them (small triangle far out).
+      double extent = variant % 2 == 0 ? scale : scale * 1e-3;
+      Vec3 centre{scale * mag(rng) * (u(rng) < 0 ? -1 : 1), scale * mag(rng),
+                  scale * mag(rng) * (u(rng) < 0 ? -1 : 1)};
+      std::vector<Vec3f> pos;
+      for (int j = 0; j < 3; ++j) {
+        Vec3 p = centre + Vec3(u(rng), u(rng), u(rng)) * extent;
+        pos.push_back({float(p.x), float(p.y), float(p.z)});
+      }
+      Scene s;
+      // Variants 2, 3 go through a rotating, scaling, translating instance
+      // transform (both a float matrix in Embree and the double one here).
+      Transform xf = variant < 2 ? Transform()
+                                 : Transform::translate(Vec3(2, -1, 1) * scale) *
+                                       Transform::rotate({u(rng), 1, u(rng)}, 70) *
+                                       Transform::scale(1.5, 0.7, 1.1);
+      s.entities.push_back(meshEntity(makeMesh(pos, {0, 1, 2}), xf));
+      EmbreeAccelerator accel(s);
+      Vec3 c = xf.applyPoint((toVec3(pos[0]) + toVec3(pos[1]) + toVec3(pos[2])) / 3);
+      double sceneSize = 10 * (length(c) + extent);
+      for (int i = 0; i < 100; ++i) {
+        // Aim at random interior points from random directions.
+        double b1 = std::fabs(u(rng)), b2 = std::fabs(u(rng));
+        if (b1 + b2 > 1) b1 = 1 - b1, b2 = 1 - b2;
+        Vec3 target = xf.applyPoint(toVec3(pos[0]) * (1 - b1 - b2) + toVec3(pos[1]) * b1 +
+                                    toVec3(pos[2]) * b2);
+        Vec3 o = target + randomDirection(rng) * sceneSize;
+        Hit h;
+        if (!accel.intersect({o, target - o}, h)) continue;
+        probe(accel, h, rng, 100, true, sceneSize, count);
+      }
+    }
+  }
+  std::printf("[self-intersection] triangles: %d spawned rays, %d self hits\n", count.spawned,
+              count.selfHits);
+  EXPECT_GT(count.spawned, 150000);
+  EXPECT_EQ(count.selfHits, 0);
+}
+
+TEST(EmbreeRobustness, QuadricsDoNotSelfIntersectAtAnyScale) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1);
+  SelfHitCount count;
+  int farSideShort = 0, farSideRays = 0;
+  for (ShapeKind kind : {ShapeKind::Sphere, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Cube}) {
+    for (double r : {1e-4, 1e-2, 1.0, 1e2, 1e4}) {
+      Transform xf = Transform::translate(Vec3(u(rng), u(rng), u(rng)) * (3 * r)) *
+                     Transform::rotate({u(rng), u(rng), 1}, 180 * u(rng)) *
+                     Transform::scale(r, 2 * r, 0.5 * r);
+      Scene s;
+      s.entities.push_back(shapeEntity(kind, xf));
+      EmbreeAccelerator accel(s);
+      Vec3 c = xf.applyPoint({0, 0.5, 0});
+      double sceneSize = 10 * (length(c) + 2 * r);
+      for (int i = 0; i < 100; ++i) {
+        Vec3 o = c + randomDirection(rng) * sceneSize;
+        Vec3 target = c + Vec3(u(rng), u(rng), u(rng)) * (0.3 * r);
+        Hit h;
+        if (!accel.intersect({o, target - o}, h)) continue;
+        probe(accel, h, rng, 100, false, sceneSize, count);
+        if (kind != ShapeKind::Sphere) continue;
+        // Into the ellipsoid: the spawned ray must find the far side where
+        // the exact chord says (in object space, from a point p of the unit
+        // sphere along d the chord ends at t = -2 p.d / d.d), not itself.
+        for (int k = 0; k < 20; ++k) {
+          Vec3 dir = randomDirection(rng);
+          if (dot(dir, h.ng) > 0) dir = -dir;
+          Vec3 dObj = Transform::fromMatrix(xf.inverseMatrix()).applyVector(dir);
+          double tChord = -2 * dot(h.pObject, dObj) / dot(dObj, dObj);
+          if (tChord < 1e-3 * r) continue; // too grazing to tell apart
+          Hit h2;
+          ++farSideRays;
+          if (!accel.intersect(spawnRay(h, dir), h2) || std::fabs(h2.t - tChord) > 1e-6 * tChord)
+            ++farSideShort;
+        }
+      }
+    }
+  }
+  std::printf("[self-intersection] quadrics: %d spawned rays, %d self hits; %d inward rays, %d "
+              "not at the far side\n",
+              count.spawned, count.selfHits, farSideRays, farSideShort);
+  EXPECT_GT(count.spawned, 100000);
+  EXPECT_EQ(count.selfHits, 0);
+  EXPECT_GT(farSideRays, 1000);
+  EXPECT_EQ(farSideShort, 0);
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,293 @@
+// Tests for src/geometry/shape: known hits, misses, normals and uvs of the
+// analytic shapes (SPEC 5), rays from inside, caps, apex, edges, bounds.
+#include "geometry/shape.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace lray {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Entity makeEntity(ShapeKind kind, const Transform &xf = Transform(), bool open = false) {
+  Entity e;
+  e.kind = kind;
+  e.worldFromObject = xf;
+  e.open = open;
+  return e;
+}
+
+void expectVecNear(const Vec3 &a, const Vec3 &b, double tol = 1e-12) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+Ray ray(const Vec3 &o, const Vec3 &d) { return {o, d}; }
+
+TEST(Sphere, HitFromOutsideAlongZ) {
+  Entity e = makeEntity(ShapeKind::Sphere);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 7, ray({0, 0, -5}, {0, 0, 1}), h));
+  EXPECT_NEAR(h.t, 4, 1e-14);
+  EXPECT_EQ(h.entity, 7u);
+  EXPECT_EQ(h.primitive, 0u);
+  expectVecNear(h.p, {0, 0, -1});
+  expectVecNear(h.ng, {0, 0, -1});
+  expectVecNear(h.ns, {0, 0, -1});
+  // atan2(-1, 0) = -pi/2: u = (pi/2) / (2 pi) = 0.25; v = (0 + 1) / 2.
+  EXPECT_NEAR(h.u, 0.25, 1e-14);
+  EXPECT_NEAR(h.v, 0.5, 1e-14);
+  EXPECT_GT(h.pError, 0);
+  EXPECT_LT(h.pError, 1e-12);
+}
+
+TEST(Sphere, UvAtKnownPoints) {
+  Entity e = makeEntity(ShapeKind::Sphere);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({5, 0, 0}, {-1, 0, 0}), h)); // +x: atan2(0,1) = 0
+  EXPECT_NEAR(h.u, 0.5, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 5, 0}, {0, -1, 0}), h)); // top
+  EXPECT_NEAR(h.v, 1, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0, 5}, {0, 0, -1}), h)); // +z: atan2(1,0) = pi/2
+  EXPECT_NEAR(h.u, 0.75, 1e-14);
+}
+
+TEST(Sphere, RayFromInsideHitsFarSide) {
+  Entity e = makeEntity(ShapeKind::Sphere);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0, 0}, {0, 2, 0}), h));
+  EXPECT_NEAR(h.t, 0.5, 1e-14); // t in units of |d|
+  expectVecNear(h.ng, {0, 1, 0}); // outward, not flipped
+}
+
+TEST(Sphere, MissesAndRange) {
+  Entity e = makeEntity(ShapeKind::Sphere);
+  Hit h;
+  EXPECT_FALSE(intersectShape(e, 0, ray({0, 1.0001, -5}, {0, 0, 1}), h));
+  EXPECT_FALSE(intersectShape(e, 0, ray({0, 0, 5}, {0, 0, 1}), h)); // behind
+  Ray r = ray({0, 0, -5}, {0, 0, 1});
+  r.tMax = 3.9;
+  EXPECT_FALSE(intersectShape(e, 0, r, h));
+  EXPECT_FALSE(occludedShape(e, r));
+  r.tMax = 4.1;
+  EXPECT_TRUE(occludedShape(e, r));
+}
+
+TEST(Sphere, GrazingRayTouchesOrMissesWithoutNaN) {
+  Entity e = makeEntity(ShapeKind::Sphere);
+  Hit h;
+  if (intersectShape(e, 0, ray({1, 0, -5}, {0, 0, 1}), h)) {
+    EXPECT_NEAR(h.t, 5, 1e-6);
+    EXPECT_TRUE(isFinite(h.ng));
+  }
+  EXPECT_FALSE(intersectShape(e, 0, ray({1 + 1e-12, 0, -5}, {0, 0, 1}), h));
+}
+
+TEST(Sphere, TransformedNormalUsesInverseTranspose) {
+  // Ellipsoid with semi-axes 2, 1, 1; at the point (sqrt2, sqrt(1/2), 0)
+  // the outward normal is proportional to (x/4, y, 0).
+  Entity e = makeEntity(ShapeKind::Sphere, Transform::scale(2, 1, 1));
+  Hit h;
+  double x = std::sqrt(2.0), y = std::sqrt(0.5);
+  Vec3 n = normalize(Vec3(x / 4, y, 0));
+  ASSERT_TRUE(intersectShape(e, 0, ray(Vec3(x, y, 0) + n * 5, -n), h));
+  EXPECT_NEAR(h.t, 5, 1e-9);
+  expectVecNear(h.p, {x, y, 0}, 1e-9);
+  expectVecNear(h.ng, normalize(Vec3(x / 4, y, 0)), 1e-9);
+  expectVecNear(h.pObject, {x / 2, y, 0}, 1e-9);
+}
+
+TEST(Sphere, WorldBoundsAreExactForRotatedEllipsoid) {
+  Transform xf = Transform::translate({1, 2, 3}) * Transform::rotate({0, 0, 1}, 30) *
+                 Transform::scale(3, 1, 2);
+  Bounds3 b = shapeWorldBounds(makeEntity(ShapeKind::Sphere, xf));
+  // x extent: sqrt((3 cos30)^2 + (sin30)^2), y: sqrt((3 sin30)^2 + cos30^2), z: 2.
+  double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  double ex = std::hypot(3 * c, s), ey = std::hypot(3 * s, c);
+  EXPECT_NEAR(b.lo.x, 1 - ex, 1e-12);
+  EXPECT_NEAR(b.hi.x, 1 + ex, 1e-12);
+  EXPECT_NEAR(b.lo.y, 2 - ey, 1e-12);
+  EXPECT_NEAR(b.hi.y, 2 + ey, 1e-12);
+  EXPECT_NEAR(b.lo.z, 1, 1e-12);
+  EXPECT_NEAR(b.hi.z, 5, 1e-12);
+}
+
+TEST(Cylinder, SideCapsAndUv) {
+  Entity e = makeEntity(ShapeKind::Cylinder);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({5, 0.25, 0}, {-1, 0, 0}), h));
+  EXPECT_NEAR(h.t, 4, 1e-14);
+  expectVecNear(h.ng, {1, 0, 0});
+  EXPECT_NEAR(h.u, 0, 1e-14);
+  EXPECT_NEAR(h.v, 0.25, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0.5, 5}, {0, 0, -1}), h)); // +z: a quarter turn
+  EXPECT_NEAR(h.u, 0.25, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0.5, -5}, {0, 0, 1}), h)); // -z: three quarters
+  EXPECT_NEAR(h.u, 0.75, 1e-14);
+  // Top cap from above, bottom cap from below.
+  ASSERT_TRUE(intersectShape(e, 0, ray({0.5, 3, -0.5}, {0, -1, 0}), h));
+  EXPECT_NEAR(h.t, 2, 1e-14);
+  expectVecNear(h.ng, {0, 1, 0});
+  EXPECT_NEAR(h.u, 0.75, 1e-14);
+  EXPECT_NEAR(h.v, 0.25, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, -2, 0}, {0, 1, 0}), h));
+  EXPECT_NEAR(h.t, 2, 1e-14);
+  expectVecNear(h.ng, {0, -1, 0});
+}
+
+TEST(Cylinder, RayAlongAxis) {
+  Entity e = makeEntity(ShapeKind::Cylinder);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, -1, 0}, {0, 1, 0}), h));
+  EXPECT_NEAR(h.t, 1, 1e-14);
+  // Along the axis of an open cylinder: no hit, and no NaN trouble.
+  Entity open = makeEntity(ShapeKind::Cylinder, Transform(), true);
+  EXPECT_FALSE(intersectShape(open, 0, ray({0, -1, 0}, {0, 1, 0}), h));
+  // Exactly on the side surface, along it: treated as a miss or a hit, never NaN.
+  if (intersectShape(open, 0, ray({1, -1, 0}, {0, 1, 0}), h)) {
+    EXPECT_TRUE(isFinite(h.p));
+  }
+}
+
+TEST(Cylinder, FromInsideAndOpen) {
+  Entity e = makeEntity(ShapeKind::Cylinder);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0.5, 0}, {0, 1, 0}), h)); // inside, up: top cap
+  EXPECT_NEAR(h.t, 0.5, 1e-14);
+  expectVecNear(h.ng, {0, 1, 0});
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0.5, 0}, {1, 0, 0}), h)); // inside, sideways
+  EXPECT_NEAR(h.t, 1, 1e-14);
+  Entity open = makeEntity(ShapeKind::Cylinder, Transform(), true);
+  // Through the open top: hits the inside of the far wall.
+  ASSERT_TRUE(intersectShape(open, 0, ray({0, 2, 0}, {0.5, -1, 0}), h));
+  EXPECT_NEAR(h.p.x, 1, 1e-12);
+  EXPECT_NEAR(h.p.y, 0, 1e-12);
+  expectVecNear(h.ng, {1, 0, 0}); // outward, although the ray hits the inside
+  EXPECT_FALSE(intersectShape(open, 0, ray({0, 2, 0}, {0, -1, 0}), h));
+}
+
+TEST(Cylinder, WorldBoundsTight) {
+  Transform xf = Transform::rotate({0, 0, 1}, 90); // axis along -x
+  Bounds3 b = shapeWorldBounds(makeEntity(ShapeKind::Cylinder, xf));
+  expectVecNear(b.lo, {-1, -1, -1});
+  expectVecNear(b.hi, {0, 1, 1});
+}
+
+TEST(Cone, SideBaseAndApex) {
+  Entity e = makeEntity(ShapeKind::Cone);
+  Hit h;
+  // At y = 0.5 the radius is 0.5.
+  ASSERT_TRUE(intersectShape(e, 0, ray({5, 0.5, 0}, {-1, 0, 0}), h));
+  EXPECT_NEAR(h.t, 4.5, 1e-14);
+  expectVecNear(h.ng, normalize(Vec3(1, 1, 0)));
+  EXPECT_NEAR(h.u, 0, 1e-14);
+  EXPECT_NEAR(h.v, 0.5, 1e-14);
+  ASSERT_TRUE(intersectShape(e, 0, ray({0.25, -1, 0.5}, {0, 1, 0}), h)); // base
+  EXPECT_NEAR(h.t, 1, 1e-14);
+  expectVecNear(h.ng, {0, -1, 0});
+  EXPECT_NEAR(h.u, 0.625, 1e-14);
+  EXPECT_NEAR(h.v, 0.75, 1e-14);
+  // Straight down onto the apex.
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 3, 0}, {0, -1, 0}), h));
+  EXPECT_NEAR(h.t, 2, 1e-12);
+  EXPECT_TRUE(isFinite(h.ng));
+  EXPECT_GT(h.ng.y, 0);
+  // Into the cone through the apex at an angle, from inside the other nappe.
+  ASSERT_TRUE(intersectShape(e, 0, ray({-0.5, 2, -0.2}, {0.5, -1, 0.2}), h));
+  EXPECT_NEAR(h.t, 1, 1e-9);
+  EXPECT_TRUE(isFinite(h.ng));
+  // Above the apex, missing the real cone but crossing the upper nappe.
+  EXPECT_FALSE(intersectShape(e, 0, ray({-5, 2, 0}, {1, 0, 0}), h));
+}
+
+TEST(Cone, ParallelToGeneratorAndOpen) {
+  Entity e = makeEntity(ShapeKind::Cone);
+  Hit h;
+  // Direction (1, -1, 0) is parallel to the generator in the xy plane.
+  ASSERT_TRUE(intersectShape(e, 0, ray({-2, 1, 0}, {1, -1, 0}), h));
+  EXPECT_TRUE(isFinite(h.p));
+  Entity open = makeEntity(ShapeKind::Cone, Transform(), true);
+  EXPECT_FALSE(intersectShape(open, 0, ray({0.25, -1, 0}, {0, 1, 0}), h) && h.p.y < 0.5);
+  ASSERT_TRUE(intersectShape(open, 0, ray({0.25, -1, 0}, {0, 1, 0}), h)); // inside of the side
+  EXPECT_NEAR(h.p.y, 0.75, 1e-12);
+}
+
+TEST(Cone, WorldBounds) {
+  Bounds3 b = shapeWorldBounds(makeEntity(ShapeKind::Cone, Transform::translate({0, 1, 0})));
+  expectVecNear(b.lo, {-1, 1, -1});
+  expectVecNear(b.hi, {1, 2, 1});
+}
+
+TEST(Cube, FacesNormalsAndUv) {
+  Entity e = makeEntity(ShapeKind::Cube);
+  struct Case {
+    Vec3 o, d, n;
+    double u, v;
+  };
+  // Points (0.25, 0.1, ...) etc. on each face; uv per the table in cube.cpp.
+  const Case cases[] = {
+      {{0.25, 0.1, -5}, {0, 0, 1}, {0, 0, -1}, 0.75, 0.6},
+      {{0.25, 0.1, 5}, {0, 0, -1}, {0, 0, 1}, 0.25, 0.6},
+      {{5, 0.1, 0.25}, {-1, 0, 0}, {1, 0, 0}, 0.75, 0.6},
+      {{-5, 0.1, 0.25}, {1, 0, 0}, {-1, 0, 0}, 0.25, 0.6},
+      {{0.25, 5, 0.1}, {0, -1, 0}, {0, 1, 0}, 0.75, 0.6},
+      {{0.25, -5, 0.1}, {0, 1, 0}, {0, -1, 0}, 0.25, 0.6},
+  };
+  for (const Case &c : cases) {
+    Hit h;
+    ASSERT_TRUE(intersectShape(e, 0, ray(c.o, c.d), h));
+    EXPECT_NEAR(h.t, 4.5, 1e-14);
+    expectVecNear(h.ng, c.n);
+    EXPECT_NEAR(h.u, c.u, 1e-14);
+    EXPECT_NEAR(h.v, c.v, 1e-14);
+  }
+}
+
+TEST(Cube, FaceCornersSpanUnitSquare) {
+  Entity e = makeEntity(ShapeKind::Cube);
+  Hit h;
+  double umin = 1, umax = 0, vmin = 1, vmax = 0;
+  for (double x : {-0.4999, 0.4999})
+    for (double y : {-0.4999, 0.4999}) {
+      ASSERT_TRUE(intersectShape(e, 0, ray({x, y, -3}, {0, 0, 1}), h));
+      umin = std::min(umin, h.u), umax = std::max(umax, h.u);
+      vmin = std::min(vmin, h.v), vmax = std::max(vmax, h.v);
+    }
+  EXPECT_NEAR(umin, 0, 1e-3);
+  EXPECT_NEAR(umax, 1, 1e-3);
+  EXPECT_NEAR(vmin, 0, 1e-3);
+  EXPECT_NEAR(vmax, 1, 1e-3);
+}
+
+TEST(Cube, InsideAlongEdgesAndCorners) {
+  Entity e = makeEntity(ShapeKind::Cube);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({0, 0, 0}, {0, 0, 1}), h));
+  EXPECT_NEAR(h.t, 0.5, 1e-14);
+  expectVecNear(h.ng, {0, 0, 1});
+  // Along an edge (x = z = 0.5): reaches the bottom face's corner.
+  ASSERT_TRUE(intersectShape(e, 0, ray({0.5, -3, 0.5}, {0, 1, 0}), h));
+  EXPECT_NEAR(h.t, 2.5, 1e-14);
+  EXPECT_TRUE(isFinite(h.ng));
+  // Through a corner diagonally.
+  ASSERT_TRUE(intersectShape(e, 0, ray({-1.5, -1.5, -1.5}, {1, 1, 1}), h));
+  EXPECT_NEAR(h.t, 1, 1e-14);
+  EXPECT_TRUE(isFinite(h.ng));
+  EXPECT_GE(h.u, 0);
+  EXPECT_LE(h.u, 1);
+  // Parallel to a face, outside the slab.
+  EXPECT_FALSE(intersectShape(e, 0, ray({0.6, -3, 0}, {0, 1, 0}), h));
+}
+
+TEST(Cube, WorldBoundsOfRotatedCube) {
+  Bounds3 b = shapeWorldBounds(makeEntity(ShapeKind::Cube, Transform::rotate({0, 1, 0}, 45)));
+  double r = std::sqrt(0.5);
+  expectVecNear(b.lo, {-r, -0.5, -r});
+  expectVecNear(b.hi, {r, 0.5, r});
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,98 @@
+// Tests for src/geometry/triangle_hit: the mesh hit record both backends
+// fill after their own triangle test (fillTriangleHit, meshObjectBounds).
+#include "geometry/shape.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+namespace lray {
+namespace {
+
+std::shared_ptr<MeshData> oneTriangle() {
+  auto m = std::make_shared<MeshData>();
+  m->positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}};
+  m->triangleIndices = {0, 1, 2};
+  MeshTriangle t;
+  t.v[0] = 0, t.v[1] = 1, t.v[2] = 2;
+  m->triangles.push_back(t);
+  return m;
+}
+
+Entity meshEntity(MeshDataPtr mesh, const Transform &xf, bool smooth = false) {
+  Entity e;
+  e.kind = ShapeKind::Mesh;
+  e.mesh = std::move(mesh);
+  e.worldFromObject = xf;
+  e.smooth = smooth;
+  return e;
+}
+
+TEST(FillTriangleHit, PointsNormalsAndDefaultUvsUnderATransform) {
+  Transform xf = Transform::translate({1, 2, 3}) * Transform::scale(1, 1, -2);
+  Entity e = meshEntity(oneTriangle(), xf);
+  Ray ray{{0.5, 0.5, -10}, {0, 0, 1}};
+  Hit h;
+  fillTriangleHit(e, 4, 0, 7.0, 0.25, 0.5, ray, h);
+  EXPECT_EQ(h.t, 7.0);
+  EXPECT_EQ(h.entity, 4u);
+  EXPECT_EQ(h.primitive, 0u);
+  EXPECT_EQ(h.pObject, Vec3(0.5, 1, 0));
+  EXPECT_EQ(h.p, Vec3(1.5, 3, 3));
+  // cross(p1 - p0, p2 - p0) = +z in object space; the mirror in z flips it.
+  EXPECT_EQ(h.ng, Vec3(0, 0, -1));
+  EXPECT_EQ(h.ns, h.ng);
+  EXPECT_DOUBLE_EQ(h.u, 0.25);
+  EXPECT_DOUBLE_EQ(h.v, 0.5);
+  // At least a few float ulps of the coordinates (Embree traces in float).
+  EXPECT_GE(h.pError, 4 * 0x1p-24 * 3);
+  EXPECT_LT(h.pError, 1e-4);
+}
+
+TEST(FillTriangleHit, ClampsBarycentricsOntoTheTriangle) {
+  Entity e = meshEntity(oneTriangle(), Transform());
+  Hit h;
+  fillTriangleHit(e, 0, 0, 1.0, 0.7, 0.4, {{0, 0, -1}, {0, 0, 1}}, h);
+  EXPECT_NEAR(h.pObject.x + h.pObject.y, 2, 1e-12); // on the hypotenuse
+  fillTriangleHit(e, 0, 0, 1.0, -1e-7, 0.5, {{0, 0, -1}, {0, 0, 1}}, h);
+  EXPECT_EQ(h.pObject.x, 0);
+}
+
+TEST(FillTriangleHit, SmoothNormalsByVertexIndexWithoutNormalIndices) {
+  auto m = oneTriangle();
+  m->normals = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}; // per vertex, no MeshTriangle::n
+  Entity smooth = meshEntity(m, Transform(), true);
+  Hit h;
+  fillTriangleHit(smooth, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, h);
+  Vec3 expected = normalize(Vec3(0.5, 0.25, 0.25));
+  EXPECT_NEAR(h.ns.x, expected.x, 1e-6);
+  EXPECT_NEAR(h.ns.y, expected.y, 1e-6);
+  EXPECT_NEAR(h.ns.z, expected.z, 1e-6);
+  EXPECT_EQ(h.ng, Vec3(0, 0, 1));
+  Entity flat = meshEntity(m, Transform(), false);
+  fillTriangleHit(flat, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, h);
+  EXPECT_EQ(h.ns, Vec3(0, 0, 1)); // smooth = false shades with the face normal
+}
+
+TEST(FillTriangleHit, GivenUvsAreInterpolated) {
+  auto m = oneTriangle();
+  m->uvs = {{-25, -25}, {25, -25}, {-25, 25}};
+  for (int k = 0; k < 3; ++k) m->triangles[0].uv[k] = k;
+  m->hasUvs = true;
+  Hit h;
+  fillTriangleHit(meshEntity(m, Transform()), 0, 0, 1.0, 0.5, 0.5, {{0, 0, -1}, {0, 0, 1}}, h);
+  EXPECT_DOUBLE_EQ(h.u, 0);
+  EXPECT_DOUBLE_EQ(h.v, 0);
+}
+
+TEST(MeshObjectBounds, CoversThePositions) {
+  auto m = oneTriangle();
+  m->positions.push_back({-1, 5, 0.5f});
+  Bounds3 b = meshObjectBounds(*m);
+  EXPECT_EQ(b.lo, Vec3(-1, 0, 0));
+  EXPECT_EQ(b.hi, Vec3(2, 5, 0.5));
+  EXPECT_TRUE(meshObjectBounds(MeshData()).empty());
+}
+
+} // namespace
+} // namespace lray

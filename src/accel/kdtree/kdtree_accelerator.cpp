@@ -1,0 +1,189 @@
+// Pipeline: acceleration (kd-tree backend). Builds the two-level kd-tree and
+// answers closest-hit and any-hit queries; mesh rays are moved into object
+// space (direction not normalised, so t is the same in both spaces).
+#include "accel/kdtree/kdtree_accelerator.h"
+
+#include "accel/kdtree/triangle_clip.h"
+#include "accel/kdtree/watertight_triangle.h"
+#include "geometry/shape.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+
+namespace lray {
+
+namespace {
+
+Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
+
+struct TriangleCorners {
+  Vec3 p0, p1, p2;
+};
+
+TriangleCorners corners(const MeshData &mesh, uint32_t triangle) {
+  const uint32_t *idx = mesh.triangleIndices.data() + 3 * size_t{triangle};
+  return {toVec3(mesh.positions[idx[0]]), toVec3(mesh.positions[idx[1]]),
+          toVec3(mesh.positions[idx[2]])};
+}
+
+KdTree buildMeshTree(const MeshData &mesh) {
+  size_t n = mesh.triangleIndices.size() / 3;
+  std::vector<Bounds3> bounds(n);
+  tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+    TriangleCorners c = corners(mesh, static_cast<uint32_t>(i));
+    Bounds3 b(c.p0, c.p1);
+    b.extend(c.p2);
+    bounds[i] = b;
+  });
+  // Triangle trees stop splitting earlier than the model's defaults: on a
+  // 250k-triangle mesh, traversal cost 60 (vs 15) gave the same camera-ray
+  // throughput with 5x fewer nodes and half the build time (bench_kdtree).
+  KdBuildOptions options;
+  options.cost.traversalCost = 60;
+  return KdTree::build(
+      bounds,
+      [&mesh](uint32_t i, const Bounds3 &box) {
+        TriangleCorners c = corners(mesh, i);
+        return clipTriangleToBox(c.p0, c.p1, c.p2, box);
+      },
+      options);
+}
+
+// World bounds of a mesh instance: its object box's corners transformed,
+// widened by a few ulps for the rounding of the transform.
+Bounds3 instanceWorldBounds(const MeshData &mesh, const Transform &worldFromObject) {
+  Bounds3 object = meshObjectBounds(mesh);
+  if (object.empty()) return object;
+  Bounds3 world;
+  for (int i = 0; i < 8; ++i)
+    world.extend(worldFromObject.applyPoint({i & 1 ? object.hi.x : object.lo.x,
+                                             i & 2 ? object.hi.y : object.lo.y,
+                                             i & 4 ? object.hi.z : object.lo.z}));
+  Vec3 pad = (abs(world.lo) + abs(world.hi)) * 1e-14;
+  return {world.lo - pad, world.hi + pad};
+}
+
+} // namespace
+
+KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
+  auto start = std::chrono::steady_clock::now();
+
+  // One bottom-level tree per distinct MeshData (shared_ptr identity).
+  std::unordered_map<const MeshData *, uint32_t> treeOfMesh;
+  std::vector<Bounds3> topBounds;
+  for (uint32_t i = 0; i < scene.entities.size(); ++i) {
+    const Entity &e = scene.entities[i];
+    Instance inst;
+    inst.entity = i;
+    if (e.kind == ShapeKind::Mesh) {
+      if (!e.mesh || e.mesh->triangleIndices.empty()) continue;
+      auto [it, added] =
+          treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));
+      if (added) meshTrees_.push_back({e.mesh.get(), KdTree()});
+      inst.meshTree = it->second;
+      inst.identity = e.worldFromObject.isIdentity();
+      inst.objectFromWorld = e.worldFromObject.inverse();
+      topBounds.push_back(instanceWorldBounds(*e.mesh, e.worldFromObject));
+      ++stats_.instances;
+    } else {
+      topBounds.push_back(shapeWorldBounds(e));
+      ++stats_.primitives;
+    }
+    instances_.push_back(inst);
+  }
+  // Many small meshes build side by side; a big one parallelises inside.
+  tbb::parallel_for(size_t{0}, meshTrees_.size(),
+                    [this](size_t i) { meshTrees_[i].tree = buildMeshTree(*meshTrees_[i].mesh); });
+  for (const MeshTree &mt : meshTrees_) stats_.primitives += mt.mesh->triangleIndices.size() / 3;
+  top_ = KdTree::build(topBounds, [&topBounds](uint32_t i, const Bounds3 &box) {
+    Bounds3 b = topBounds[i];
+    b.lo = max(b.lo, box.lo);
+    b.hi = min(b.hi, box.hi);
+    return b;
+  });
+
+  stats_.buildSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats_.memoryBytes = top_.memoryBytes() + instances_.capacity() * sizeof(Instance) +
+                       meshTrees_.capacity() * sizeof(MeshTree);
+  for (const MeshTree &mt : meshTrees_) stats_.memoryBytes += mt.tree.memoryBytes();
+}
+
+bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
+  // The nearest triangle is only recorded during traversal; its Hit is filled
+  // once at the end. Analytic shapes fill theirs as they are found.
+  struct TriangleCandidate {
+    uint32_t entity = 0, triangle = 0;
+    double b1 = 0, b2 = 0;
+  } best;
+  bool bestIsTriangle = false;
+  double tMax = ray.tMax;
+  Hit shapeHit;
+  bool found = top_.traverse<false>(ray, tMax, [&](uint32_t prim, double &tBest) {
+    const Instance &inst = instances_[prim];
+    const Entity &entity = scene_.entities[inst.entity];
+    if (inst.meshTree == kAnalytic) {
+      Ray bounded = ray;
+      bounded.tMax = tBest;
+      Hit candidate;
+      if (!intersectShape(entity, inst.entity, bounded, candidate) || !(candidate.t < tBest))
+        return false;
+      shapeHit = candidate;
+      tBest = candidate.t;
+      bestIsTriangle = false;
+      return true;
+    }
+    const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
+    const WatertightRay wray(objectRay);
+    const MeshTree &mt = meshTrees_[inst.meshTree];
+    return mt.tree.traverse<false>(objectRay, tBest, [&](uint32_t tri, double &tTri) {
+      TriangleCorners c = corners(*mt.mesh, tri);
+      TriangleHitParams params;
+      if (!intersectTriangle(wray, c.p0, c.p1, c.p2, tTri, params)) return false;
+      tTri = params.t;
+      best = {inst.entity, tri, params.b1, params.b2};
+      bestIsTriangle = true;
+      return true;
+    });
+  });
+  if (!found) return false;
+  if (bestIsTriangle) {
+    fillTriangleHit(scene_.entities[best.entity], best.entity, best.triangle, tMax, best.b1,
+                    best.b2, ray, hit);
+  } else {
+    hit = shapeHit;
+  }
+  return true;
+}
+
+bool KdTreeAccelerator::occluded(const Ray &ray) const {
+  double tMax = ray.tMax;
+  return top_.traverse<true>(ray, tMax, [&](uint32_t prim, double &) {
+    const Instance &inst = instances_[prim];
+    const Entity &entity = scene_.entities[inst.entity];
+    if (inst.meshTree == kAnalytic) return occludedShape(entity, ray);
+    const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
+    const WatertightRay wray(objectRay);
+    const MeshTree &mt = meshTrees_[inst.meshTree];
+    double tObject = objectRay.tMax;
+    return mt.tree.traverse<true>(objectRay, tObject, [&](uint32_t tri, double &tTri) {
+      TriangleCorners c = corners(*mt.mesh, tri);
+      TriangleHitParams params;
+      return intersectTriangle(wray, c.p0, c.p1, c.p2, tTri, params);
+    });
+  });
+}
+
+void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
+                                          uint8_t *found) const {
+  for (size_t i = 0; i < count; ++i) found[i] = intersect(rays[i], hits[i]) ? 1 : 0;
+}
+
+void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
+  for (size_t i = 0; i < count; ++i) occluded[i] = this->occluded(rays[i]) ? 1 : 0;
+}
+
+} // namespace lray

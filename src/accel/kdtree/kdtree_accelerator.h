@@ -1,0 +1,63 @@
+// Pipeline: acceleration (kd-tree backend). The project's own backend behind
+// Accelerator: two levels, like Embree's instancing. Each distinct MeshData
+// gets one bottom-level SAH kd-tree over its triangles in mesh object space
+// (copies of a mesh share it); a top-level kd-tree holds the entities
+// (analytic shapes by their world bounds, mesh instances by the world bounds
+// of their transformed object bounds). Shapes and triangle hit records come
+// from the shared code in geometry/shape.h, as with Embree.
+#pragma once
+
+#include "accel/accelerator.h"
+#include "accel/kdtree/kd_tree.h"
+#include "math/transform.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace lray {
+
+/// SAH kd-tree backend (--backend kdtree).
+class KdTreeAccelerator final : public Accelerator {
+public:
+  /// Builds both levels over `scene` (which must outlive this object).
+  explicit KdTreeAccelerator(const Scene &scene);
+
+  bool intersect(const Ray &ray, Hit &hit) const override;
+  bool occluded(const Ray &ray) const override;
+  /// Loops over single rays (the kd-tree has no packet traversal).
+  void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
+  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
+  /// primitives: analytic shapes + triangles of the distinct meshes;
+  /// instances: mesh entities (each an instance of a bottom-level tree).
+  AcceleratorStats stats() const override { return stats_; }
+
+  /// The top-level tree over entities (for tests and benchmarks).
+  const KdTree &topLevelTree() const { return top_; }
+  /// Number of bottom-level trees (distinct meshes).
+  size_t meshTreeCount() const { return meshTrees_.size(); }
+  /// Bottom-level tree i, over one distinct mesh's triangles in object space.
+  const KdTree &meshTree(size_t i) const { return meshTrees_[i].tree; }
+
+private:
+  static constexpr uint32_t kAnalytic = ~0u;
+
+  struct MeshTree {
+    const MeshData *mesh = nullptr;
+    KdTree tree;
+  };
+  /// One top-level primitive: an entity and, for meshes, how to reach its tree.
+  struct Instance {
+    uint32_t entity = 0;
+    uint32_t meshTree = kAnalytic;
+    bool identity = true;       ///< object space == world space: skip the ray transform
+    Transform objectFromWorld;  ///< meshes only
+  };
+
+  const Scene &scene_;
+  std::vector<MeshTree> meshTrees_;
+  std::vector<Instance> instances_;
+  KdTree top_;
+  AcceleratorStats stats_;
+};
+
+} // namespace lray

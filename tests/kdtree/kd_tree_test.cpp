@@ -1,0 +1,283 @@
+// Tests for src/accel/kdtree/kd_tree.h: the SAH build and both traversals
+// against brute force, including the rays that break naive kd-trees.
+#include "kdtree/kdtree_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace lray {
+namespace {
+
+using kdtest::Nearest;
+using kdtest::Rng;
+using kdtest::TriangleSoup;
+
+TriangleSoup randomSoup(size_t n, uint64_t seed, double size) {
+  Rng rng(seed);
+  TriangleSoup soup;
+  for (size_t i = 0; i < n; ++i) {
+    Vec3 c = rng.inBox({-10, -10, -10}, {10, 10, 10});
+    soup.add(c + rng.direction() * size, c + rng.direction() * size, c + rng.direction() * size);
+  }
+  return soup;
+}
+
+void expectSame(const Nearest &expected, const Nearest &got, const Ray &ray,
+                bool allowTies = false) {
+  ASSERT_EQ(expected.found(), got.found()) << "o=" << ray.o.x << "," << ray.o.y << "," << ray.o.z;
+  if (!expected.found()) return;
+  // Same t exactly; a different primitive only as a tie at that t
+  // (overlapping coplanar triangles), where either answer is right.
+  EXPECT_EQ(expected.t, got.t);
+  if (!allowTies) {
+    EXPECT_EQ(expected.prim, got.prim);
+  }
+}
+
+void checkAgainstBruteForce(const KdTree &tree, const TriangleSoup &soup,
+                            const std::vector<Ray> &rays, bool allowTies = false) {
+  int hits = 0;
+  for (const Ray &ray : rays) {
+    Nearest expected = kdtest::bruteForce(soup, ray);
+    expectSame(expected, kdtest::treeNearest(tree, soup, ray), ray, allowTies);
+    EXPECT_EQ(expected.found(), kdtest::treeOccluded(tree, soup, ray));
+    hits += expected.found();
+  }
+  // The ray sets are built so that a good share hit something.
+  EXPECT_GT(hits, static_cast<int>(rays.size() / 10));
+}
+
+TEST(KdTree, RandomTriangleSoupMatchesBruteForce) {
+  TriangleSoup soup = randomSoup(1500, 1, 1.5);
+  KdTree tree = soup.buildTree();
+  ASSERT_FALSE(tree.empty());
+  EXPECT_GT(tree.info().leaves, 100u);
+  Rng rng(2);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1500; ++i) {
+    Ray r{rng.inBox({-15, -15, -15}, {15, 15, 15}), rng.direction()};
+    if (i % 3 == 0) r.tMax = rng.uniform(0, 20); // bounded segments, as shadow rays
+    if (i % 5 == 0) r.tMin = rng.uniform(0, 5);
+    rays.push_back(r);
+  }
+  checkAgainstBruteForce(tree, soup, rays);
+}
+
+TEST(KdTree, ParallelBuildMatchesBruteForce) {
+  TriangleSoup soup = randomSoup(8000, 3, 0.5);
+  KdBuildOptions options;
+  options.parallelThreshold = 64; // force many parallel subtrees
+  KdTree tree = soup.buildTree(options);
+  Rng rng(4);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 400; ++i) {
+    Vec3 o = rng.inBox({-12, -12, -12}, {12, 12, 12});
+    rays.push_back({o, rng.inBox({-8, -8, -8}, {8, 8, 8}) - o});
+  }
+  checkAgainstBruteForce(tree, soup, rays);
+}
+
+// Axis-aligned boxes as primitives: the tree knows only their bounds.
+struct BoxSet {
+  std::vector<Bounds3> boxes;
+
+  bool hit(uint32_t i, const Ray &ray, double tMax, double &t) const {
+    double t0 = -INFINITY, t1 = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+      double inv = 1 / ray.d[a];
+      double tn = (boxes[i].lo[a] - ray.o[a]) * inv, tf = (boxes[i].hi[a] - ray.o[a]) * inv;
+      if (tn > tf) std::swap(tn, tf);
+      t0 = std::max(t0, tn);
+      t1 = std::min(t1, tf);
+    }
+    if (t0 > t1) return false;
+    t = t0 > ray.tMin ? t0 : t1;
+    return t > ray.tMin && t < tMax;
+  }
+};
+
+TEST(KdTree, RandomBoxesMatchBruteForce) {
+  Rng rng(5);
+  BoxSet set;
+  for (int i = 0; i < 2000; ++i) {
+    Vec3 c = rng.inBox({-10, -10, -10}, {10, 10, 10});
+    Vec3 h{rng.uniform(0.05, 1), rng.uniform(0.05, 1), rng.uniform(0.05, 1)};
+    set.boxes.emplace_back(c - h, c + h);
+  }
+  KdTree tree = KdTree::build(set.boxes, [&](uint32_t i, const Bounds3 &box) {
+    Bounds3 b = set.boxes[i];
+    b.lo = max(b.lo, box.lo);
+    b.hi = min(b.hi, box.hi);
+    return b;
+  });
+  int hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Ray ray{rng.inBox({-12, -12, -12}, {12, 12, 12}), rng.direction()};
+    Nearest expected;
+    double tMax = ray.tMax, t = 0;
+    for (uint32_t b = 0; b < set.boxes.size(); ++b)
+      if (set.hit(b, ray, tMax, t)) expected = {tMax = t, b};
+    Nearest got;
+    double tBest = ray.tMax;
+    tree.traverse<false>(ray, tBest, [&](uint32_t b, double &tm) {
+      double th = 0;
+      if (!set.hit(b, ray, tm, th)) return false;
+      got = {tm = th, b};
+      return true;
+    });
+    expectSame(expected, got, ray);
+    hits += expected.found();
+  }
+  EXPECT_GT(hits, 1000);
+}
+
+// Rays parallel to split planes, lying in them, and starting on them: the
+// cases where pbrt-v3 computes (split - o) * inf = NaN.
+TEST(KdTree, RaysParallelToAndOnSplitPlanes) {
+  TriangleSoup soup = randomSoup(1000, 6, 1.5);
+  KdTree tree = soup.buildTree();
+  std::vector<Ray> rays;
+  Rng rng(7);
+  int planes = 0;
+  for (const KdNode &node : tree.nodes()) {
+    if (node.isLeaf() || planes >= 150) continue;
+    ++planes;
+    int axis = node.axis();
+    for (int k = 0; k < 4; ++k) {
+      Vec3 o = rng.inBox({-12, -12, -12}, {12, 12, 12});
+      o[axis] = node.split();
+      Vec3 d = rng.direction();
+      Vec3 inPlane = d;
+      inPlane[axis] = 0; // lies in the plane
+      rays.push_back({o, inPlane});
+      Vec3 axisAligned{0, 0, 0};
+      axisAligned[(axis + 1) % 3] = k % 2 ? 1 : -1; // in the plane and along another axis
+      rays.push_back({o, axisAligned});
+      rays.push_back({o, d}); // starts on the plane
+      Vec3 off = o;
+      off[axis] += 1e-3;
+      rays.push_back({off, inPlane}); // parallel, just beside it
+      // Aimed at a point on the plane from outside it.
+      Vec3 target = rng.inBox({-8, -8, -8}, {8, 8, 8});
+      target[axis] = node.split();
+      Vec3 from = rng.inBox({-12, -12, -12}, {12, 12, 12});
+      rays.push_back({from, target - from});
+    }
+  }
+  ASSERT_GT(planes, 40);
+  checkAgainstBruteForce(tree, soup, rays);
+}
+
+// All triangles in one plane: the root box is flat, and rays may lie in it.
+TEST(KdTree, FlatCellsOfCoplanarTriangles) {
+  Rng rng(8);
+  TriangleSoup soup;
+  for (int i = 0; i < 1500; ++i) {
+    Vec3 c = rng.inBox({-10, -10, 0}, {10, 10, 0});
+    Vec3 a = c + Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+    Vec3 b = c + Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+    soup.add(c, a, b);
+  }
+  KdTree tree = soup.buildTree();
+  EXPECT_EQ(tree.bounds().lo.z, 0);
+  EXPECT_EQ(tree.bounds().hi.z, 0);
+  EXPECT_GT(tree.info().leaves, 10u);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 2000; ++i) {
+    Vec3 o = rng.inBox({-12, -12, -5}, {12, 12, 5});
+    Vec3 target = rng.inBox({-10, -10, 0}, {10, 10, 0});
+    rays.push_back({o, target - o});
+  }
+  checkAgainstBruteForce(tree, soup, rays, /*allowTies=*/true);
+  // Rays lying in the plane see the triangles edge-on: no hits, no NaN trouble.
+  for (int i = 0; i < 200; ++i) {
+    Vec3 d = rng.direction();
+    d.z = 0;
+    Ray ray{rng.inBox({-12, -12, 0}, {12, 12, 0}), d};
+    EXPECT_EQ(kdtest::bruteForce(soup, ray).found(), kdtest::treeNearest(tree, soup, ray).found());
+  }
+}
+
+// Watertightness: rays from inside a closed mesh aimed exactly at its vertices
+// and edge midpoints, where a ray meets several triangles on their borders.
+TEST(KdTree, WatertightProbeHasNoMisses) {
+  MeshDataPtr mesh = kdtest::makeJitteredSphere(40, 80, 0.05, 9);
+  TriangleSoup soup = kdtest::soupFromMesh(*mesh);
+  KdTree tree = soup.buildTree();
+  Rng rng(10);
+  const auto &pos = mesh->positions;
+  const auto &idx = mesh->triangleIndices;
+  int misses = 0, rays = 0;
+  while (rays < 100000) {
+    Vec3 o = rng.inBox({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+    uint32_t tri = static_cast<uint32_t>(rng.nextBits() % (idx.size() / 3));
+    int corner = static_cast<int>(rng.nextBits() % 3);
+    Vec3 a = kdtest::toVec3(pos[idx[3 * tri + corner]]);
+    Vec3 b = kdtest::toVec3(pos[idx[3 * tri + (corner + 1) % 3]]);
+    Vec3 target = rays % 2 ? a : (a + b) * 0.5;
+    Ray ray{o, target - o};
+    ++rays;
+    if (!kdtest::treeNearest(tree, soup, ray).found()) ++misses;
+    if (!kdtest::treeOccluded(tree, soup, ray)) ++misses;
+  }
+  EXPECT_EQ(misses, 0);
+}
+
+TEST(KdTree, RespectsDepthLimit) {
+  TriangleSoup soup = randomSoup(4000, 11, 0.3);
+  KdTree deflt = soup.buildTree();
+  int expectedLimit = static_cast<int>(std::lround(8 + 1.3 * std::log2(4000.0)));
+  EXPECT_EQ(deflt.info().maxDepth, expectedLimit);
+  EXPECT_LE(deflt.info().depth, expectedLimit);
+  EXPECT_GT(deflt.info().depth, 8);
+
+  KdBuildOptions options;
+  options.maxDepth = 4;
+  KdTree shallow = soup.buildTree(options);
+  EXPECT_EQ(shallow.info().depth, 4);
+  EXPECT_LE(shallow.info().leaves, 16u);
+  // Still correct, just slower.
+  Rng rng(12);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 500; ++i) {
+    Vec3 o = rng.inBox({-12, -12, -12}, {12, 12, 12});
+    rays.push_back({o, rng.inBox({-8, -8, -8}, {8, 8, 8}) - o});
+  }
+  checkAgainstBruteForce(shallow, soup, rays);
+}
+
+TEST(KdTree, EmptyTreeMissesEverything) {
+  KdTree none = KdTree::build({}, [](uint32_t, const Bounds3 &b) { return b; });
+  EXPECT_TRUE(none.empty());
+  std::vector<Bounds3> emptyBounds(3); // default Bounds3 is empty: left out
+  KdTree allEmpty = KdTree::build(emptyBounds, [](uint32_t, const Bounds3 &b) { return b; });
+  EXPECT_TRUE(allEmpty.empty());
+  std::vector<Bounds3> unusable(2);
+  unusable[0] = Bounds3({0, 0, 0}, {1, 1, 1});
+  unusable[0].hi.y = NAN;
+  unusable[1] = Bounds3({0, 0, 0}, {INFINITY, 1, 1});
+  EXPECT_TRUE(KdTree::build(unusable, [](uint32_t, const Bounds3 &b) { return b; }).empty());
+  int calls = 0;
+  double tMax = INFINITY;
+  Ray ray{{0, 0, 0}, {0, 0, 1}};
+  auto count = [&](uint32_t, double &) { return ++calls > 0; };
+  EXPECT_FALSE(allEmpty.traverse<false>(ray, tMax, count));
+  EXPECT_FALSE(none.traverse<true>(ray, tMax, [&](uint32_t, double &) { return ++calls > 0; }));
+  EXPECT_EQ(calls, 0);
+}
+
+TEST(KdTree, EveryPrimitiveReachableFromItsLeaves) {
+  TriangleSoup soup = randomSoup(1000, 13, 1);
+  KdTree tree = soup.buildTree();
+  std::vector<int> seen(soup.size(), 0);
+  for (const KdNode &node : tree.nodes())
+    if (node.isLeaf())
+      for (uint32_t p : tree.leafPrims(node)) seen.at(p) = 1;
+  for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
+  EXPECT_GE(tree.info().primReferences, soup.size());
+}
+
+} // namespace
+} // namespace lray

@@ -1,0 +1,84 @@
+// Pipeline: script -> scene description. See lua_allocator.h.
+#include "bindings/lua_allocator.h"
+
+#include <cstdlib>
+#include <cstring>
+
+#include <sys/mman.h>
+
+namespace lray::lua {
+
+LuaAllocator::~LuaAllocator() {
+  for (void *slab : slabs_) std::free(slab);
+}
+
+void *LuaAllocator::allocSmall(size_t cls) {
+  if (FreeBlock *b = free_[cls]) {
+    free_[cls] = b->next;
+    return b;
+  }
+  size_t bytes = (cls + 1) * kGranule;
+  if (static_cast<size_t>(bumpEnd_ - bump_) < bytes) {
+    // The tail of the old slab is left unused (at most kMaxSmall bytes).
+    // 2 MiB-aligned slabs can be backed by transparent huge pages: one page
+    // fault per slab instead of 512 while a big scene grows.
+    void *slab = std::aligned_alloc(kSlabBytes, kSlabBytes);
+    if (!slab) return nullptr;
+#ifdef MADV_HUGEPAGE
+    madvise(slab, kSlabBytes, MADV_HUGEPAGE);
+#endif
+    slabs_.push_back(slab);
+    bump_ = static_cast<char *>(slab);
+    bumpEnd_ = bump_ + kSlabBytes;
+  }
+  void *p = bump_;
+  bump_ += bytes;
+  return p;
+}
+
+void LuaAllocator::freeSmall(void *p, size_t cls) {
+  auto *b = static_cast<FreeBlock *>(p);
+  b->next = free_[cls];
+  free_[cls] = b;
+}
+
+void *LuaAllocator::allocate(void *ud, void *ptr, size_t oldSize, size_t newSize) {
+  auto &self = *static_cast<LuaAllocator *>(ud);
+  // Lua passes the block's true size as oldSize when ptr is not null; when
+  // ptr is null oldSize only tells the object kind.
+  if (!ptr) oldSize = 0;
+  bool oldSmall = ptr && oldSize <= kMaxSmall;
+  bool newSmall = newSize > 0 && newSize <= kMaxSmall;
+  if (newSize == 0) {
+    if (ptr) {
+      if (oldSmall)
+        self.freeSmall(ptr, sizeClass(oldSize));
+      else
+        std::free(ptr);
+      self.inUse_ -= oldSize;
+    }
+    return nullptr;
+  }
+  if (ptr && oldSmall && newSmall && sizeClass(oldSize) == sizeClass(newSize)) {
+    self.inUse_ += newSize - oldSize;
+    return ptr;
+  }
+  if (ptr && !oldSmall && !newSmall) {
+    void *p = std::realloc(ptr, newSize);
+    if (p) self.inUse_ += newSize - oldSize;
+    return p;
+  }
+  void *p = newSmall ? self.allocSmall(sizeClass(newSize)) : std::malloc(newSize);
+  if (!p) return nullptr;
+  if (ptr) {
+    std::memcpy(p, ptr, oldSize < newSize ? oldSize : newSize);
+    if (oldSmall)
+      self.freeSmall(ptr, sizeClass(oldSize));
+    else
+      std::free(ptr);
+  }
+  self.inUse_ += newSize - oldSize;
+  return p;
+}
+
+} // namespace lray::lua

@@ -1,0 +1,45 @@
+// Pipeline: script -> scene description. The Lua state's memory allocator:
+// small blocks (the userdata, tables and strings a scene script makes by the
+// million) come from per-size free lists carved out of large slabs, which is
+// several times faster than malloc for this pattern and does not fragment.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace lray::lua {
+
+class LuaAllocator {
+public:
+  LuaAllocator() = default;
+  ~LuaAllocator();
+  LuaAllocator(const LuaAllocator &) = delete;
+  LuaAllocator &operator=(const LuaAllocator &) = delete;
+
+  /// lua_Alloc: `ud` is the LuaAllocator.
+  static void *allocate(void *ud, void *ptr, size_t oldSize, size_t newSize);
+
+  /// Bytes currently handed out to Lua.
+  size_t bytesInUse() const { return inUse_; }
+
+private:
+  static constexpr size_t kGranule = 16;
+  static constexpr size_t kMaxSmall = 512;
+  static constexpr size_t kClasses = kMaxSmall / kGranule;
+  static constexpr size_t kSlabBytes = 2 * 1024 * 1024;
+
+  static size_t sizeClass(size_t size) { return (size + kGranule - 1) / kGranule - 1; }
+  void *allocSmall(size_t cls);
+  void freeSmall(void *p, size_t cls);
+
+  struct FreeBlock {
+    FreeBlock *next;
+  };
+  FreeBlock *free_[kClasses] = {};
+  char *bump_ = nullptr;    ///< next unused byte of the current slab
+  char *bumpEnd_ = nullptr;
+  std::vector<void *> slabs_;
+  size_t inUse_ = 0;
+};
+
+} // namespace lray::lua

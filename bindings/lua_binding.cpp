@@ -1,0 +1,349 @@
+// Pipeline: script -> scene description. The non-template half of the
+// binding layer: metatables, member lookup, bulk set, error messages.
+#include "bindings/lua_binding.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <cstdio>
+#include <filesystem>
+
+namespace lray::lua {
+
+namespace {
+
+const ClassInfo &upvalueClass(lua_State *L, int up) {
+  return *static_cast<const ClassInfo *>(lua_touserdata(L, lua_upvalueindex(up)));
+}
+
+std::string unknownMemberMessage(lua_State *L, const ClassInfo &cls, int key) {
+  if (lua_type(L, key) != LUA_TSTRING)
+    return cls.name + ": attributes are named by strings, got " + typeName(L, key);
+  std::string name = lua_tostring(L, key);
+  std::string message = cls.name + ": unknown attribute '" + name + "'";
+  std::string suggestion = closestName(name, cls.memberNames);
+  if (!suggestion.empty()) message += " (did you mean '" + suggestion + "'?)";
+  return message;
+}
+
+// Looks up the member named by the value at `key`, leaving nothing on the stack.
+// Returns null and sets *isMethod when it is a method.
+const Member *findMember(lua_State *L, int membersUpvalue, int key, bool *isMethod) {
+  lua_pushvalue(L, key);
+  int type = lua_rawget(L, lua_upvalueindex(membersUpvalue));
+  const Member *m = type == LUA_TLIGHTUSERDATA ? static_cast<const Member *>(lua_touserdata(L, -1))
+                                               : nullptr;
+  *isMethod = type == LUA_TFUNCTION;
+  lua_pop(L, 1);
+  return m;
+}
+
+void assign(lua_State *L, const ClassInfo &cls, int self, int key, int value) {
+  bool isMethod = false;
+  const Member *m = findMember(L, 1, key, &isMethod);
+  if (!m) {
+    if (isMethod)
+      throw ScriptError(cls.name + ": cannot assign to method '" + lua_tostring(L, key) + "'");
+    throw ScriptError(unknownMemberMessage(L, cls, key));
+  }
+  if (!m->set) throw ScriptError(cls.name + ": attribute '" + m->name + "' is read-only");
+  int top = lua_gettop(L);
+  try {
+    m->set(L, payload(objHeader(L, self)), self, value, *m);
+  } catch (const TypeMismatch &e) {
+    throw ScriptError(cls.name + ": attribute '" + m->name + "' expects " + e.expected + ", got " +
+                      e.given);
+  }
+  lua_settop(L, top);
+}
+
+int indexThunk(lua_State *L) {
+  return protectedCall(L, [&] {
+    const ClassInfo &cls = upvalueClass(L, 2);
+    lua_pushvalue(L, 2);
+    int type = lua_rawget(L, lua_upvalueindex(1));
+    if (type == LUA_TFUNCTION) return 1;
+    if (type != LUA_TLIGHTUSERDATA) throw ScriptError(unknownMemberMessage(L, cls, 2));
+    const Member &m = *static_cast<const Member *>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    m.get(L, payload(objHeader(L, 1)), 1, m);
+    return 1;
+  });
+}
+
+int newindexThunk(lua_State *L) {
+  return protectedCall(L, [&] {
+    assign(L, upvalueClass(L, 2), 1, 2, 3);
+    return 0;
+  });
+}
+
+// obj { attr = value, ... }: sets each attribute and returns obj itself.
+int bulkSetThunk(lua_State *L) {
+  return protectedCall(L, [&] {
+    const ClassInfo &cls = upvalueClass(L, 2);
+    if (lua_gettop(L) != 2 || lua_type(L, 2) != LUA_TTABLE)
+      throw ScriptError(cls.name + ": calling an object sets attributes in bulk and takes one " +
+                        "table, got " +
+                        (lua_gettop(L) < 2 ? std::string("nothing") : typeName(L, 2)));
+    lua_pushnil(L);
+    while (lua_next(L, 2) != 0) {
+      int top = lua_gettop(L);
+      assign(L, cls, 1, top - 1, top);
+      lua_settop(L, top - 1); // keep the key for lua_next
+    }
+    lua_settop(L, 1);
+    return 1;
+  });
+}
+
+int tostringThunk(lua_State *L) {
+  const ClassInfo &cls = upvalueClass(L, 1);
+  lua_pushfstring(L, "%s: %p", cls.name.c_str(), lua_touserdata(L, 1));
+  return 1;
+}
+
+int gcThunk(lua_State *L) {
+  if (ObjHeader *h = objHeader(L, 1)) {
+    if (h->cls->destroy) h->cls->destroy(payload(h));
+    h->magic = 0; // a resurrected reference can no longer be used
+  }
+  return 0;
+}
+
+size_t editDistance(const std::string &a, const std::string &b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+} // namespace
+
+int nextTypeIndex() {
+  static std::atomic<int> next{0};
+  return next++;
+}
+
+// ---- BindingContext --------------------------------------------------------------
+
+ScriptLoc BindingContext::currentLocation(lua_State *L) {
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+    if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
+    // Fast path: the same chunk as last time (checked by text, as below).
+    if (ar.source == lastSource_ && sourceTexts[lastSourceId_] == ar.source)
+      return {lastSourceId_, static_cast<uint32_t>(ar.currentline)};
+    if (preludeSource == ar.source) continue;
+    auto it = sourceIds.find(ar.source);
+    // The pointer is the interned chunk name; check the text in case the
+    // address was reused by a later chunk.
+    if (it == sourceIds.end() || sourceTexts[it->second] != ar.source) {
+      uint32_t id = static_cast<uint32_t>(sourceNames.size());
+      sourceNames.emplace_back(ar.short_src);
+      sourceTexts.resize(sourceNames.size());
+      sourceTexts[id] = ar.source;
+      sourceIds[ar.source] = id;
+      lastSource_ = ar.source;
+      lastSourceId_ = id;
+      return {id, static_cast<uint32_t>(ar.currentline)};
+    }
+    lastSource_ = ar.source;
+    lastSourceId_ = it->second;
+    return {it->second, static_cast<uint32_t>(ar.currentline)};
+  }
+  return {};
+}
+
+SourceLocation BindingContext::resolve(ScriptLoc loc) const {
+  if (loc.source >= sourceNames.size()) return {};
+  return {sourceNames[loc.source], static_cast<int>(loc.line)};
+}
+
+const ClassInfo &BindingContext::primary(const void *tag) const {
+  auto it = primaryByType.find(tag);
+  assert(it != primaryByType.end() && "type has no registered class");
+  return *it->second;
+}
+
+std::string BindingContext::resolvePath(const std::string &file) const {
+  namespace fs = std::filesystem;
+  fs::path p(file);
+  if (p.is_relative()) p = fs::path(baseDir) / p;
+  return fs::absolute(p).lexically_normal().string();
+}
+
+// ---- objects and messages --------------------------------------------------------
+
+void *pushNewObject(lua_State *L, const ClassInfo &cls) {
+  void *mem = lua_newuserdatauv(L, kPayloadOffset + cls.size, cls.userValues);
+  auto *h = static_cast<ObjHeader *>(mem);
+  h->magic = 0;
+  h->cls = &cls;
+  void *p = payload(h);
+  cls.construct(p);
+  h->magic = kObjMagic;
+  if (cls.applyDefaults) cls.applyDefaults(cls, p);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, cls.metatableRef);
+  lua_setmetatable(L, -2);
+  return p;
+}
+
+std::string typeName(lua_State *L, int i) {
+  if (ObjHeader *h = objHeader(L, i)) return h->cls->name;
+  if (lua_type(L, i) == LUA_TUSERDATA && luaL_getmetafield(L, i, "__name") != LUA_TNIL) {
+    std::string name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "userdata";
+    lua_pop(L, 1);
+    return name;
+  }
+  return luaL_typename(L, i);
+}
+
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.14g", v);
+  return buf;
+}
+
+std::string describeValue(lua_State *L, int i) {
+  switch (lua_type(L, i)) {
+  case LUA_TNUMBER:
+    if (lua_isinteger(L, i)) return std::to_string(lua_tointeger(L, i));
+    return formatNumber(lua_tonumber(L, i));
+  case LUA_TBOOLEAN:
+    return lua_toboolean(L, i) ? "true" : "false";
+  case LUA_TSTRING: {
+    std::string s = lua_tostring(L, i);
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return "'" + s + "'";
+  }
+  default:
+    return typeName(L, i);
+  }
+}
+
+std::string closestName(const std::string &word, const std::vector<std::string> &names) {
+  std::string best;
+  // Close enough to be a typo: at most a third of the word, never all of it.
+  size_t bestDistance = std::max<size_t>(1, word.size() / 3) + 1;
+  for (const std::string &name : names) {
+    size_t d = editDistance(word, name);
+    if (d < bestDistance && d < word.size()) {
+      bestDistance = d;
+      best = name;
+    }
+  }
+  return best;
+}
+
+void pushErrorMessage(lua_State *L, const char *message) {
+  BindingContext &ctx = BindingContext::of(L);
+  SourceLocation loc = ctx.resolve(ctx.currentLocation(L));
+  if (loc.line > 0)
+    lua_pushfstring(L, "%s: %s", loc.str().c_str(), message);
+  else
+    lua_pushstring(L, message);
+}
+
+void throwArgumentError(const char *context, int index, const TypeMismatch &e) {
+  if (index <= 0)
+    throw ScriptError(std::string(context) + ": self " + e.what() + " (call methods with ':')");
+  throw ScriptError(std::string(context) + ": argument " + std::to_string(index) + " " + e.what());
+}
+
+void throwArgumentCount(const char *context, int maxArgs, int given) {
+  throw ScriptError(std::string(context) + ": too many arguments (takes at most " +
+                    std::to_string(maxArgs) + ", got " + std::to_string(given) + ")");
+}
+
+int rawFunctionThunk(lua_State *L) {
+  return protectedCall(L, [&] { return upvalueFunction<RawFunction>(L, 1)(L); });
+}
+
+// ---- registration ----------------------------------------------------------------
+
+ClassInfo &createClass(lua_State *L, const std::string &name, const void *tag, size_t size,
+                       void (*construct)(void *), void (*destroy)(void *)) {
+  BindingContext &ctx = BindingContext::of(L);
+  auto owned = std::make_unique<ClassInfo>();
+  ClassInfo &cls = *owned;
+  ctx.classes.push_back(std::move(owned));
+  cls.name = name;
+  cls.typeTag = tag;
+  cls.size = size;
+  cls.construct = construct;
+  cls.destroy = destroy;
+  ctx.primaryByType.emplace(tag, &cls);
+
+  lua_newtable(L); // members
+  lua_pushvalue(L, -1);
+  cls.membersRef = luaL_ref(L, LUA_REGISTRYINDEX);
+
+  lua_newtable(L); // metatable
+  lua_pushstring(L, name.c_str());
+  lua_setfield(L, -2, "__name");
+  lua_pushstring(L, name.c_str());
+  lua_setfield(L, -2, "__metatable"); // scripts cannot swap it
+  lua_pushvalue(L, -2);
+  lua_pushlightuserdata(L, &cls);
+  lua_pushcclosure(L, &indexThunk, 2);
+  lua_setfield(L, -2, "__index");
+  lua_pushvalue(L, -2);
+  lua_pushlightuserdata(L, &cls);
+  lua_pushcclosure(L, &newindexThunk, 2);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushvalue(L, -2);
+  lua_pushlightuserdata(L, &cls);
+  lua_pushcclosure(L, &bulkSetThunk, 2);
+  lua_setfield(L, -2, "__call");
+  lua_pushlightuserdata(L, &cls);
+  lua_pushcclosure(L, &tostringThunk, 1);
+  lua_setfield(L, -2, "__tostring");
+  if (destroy) {
+    lua_pushcfunction(L, &gcThunk);
+    lua_setfield(L, -2, "__gc");
+  }
+  cls.metatableRef = luaL_ref(L, LUA_REGISTRYINDEX);
+  lua_pop(L, 1); // members
+  return cls;
+}
+
+void addMemberEntry(lua_State *L, ClassInfo &cls, Member &m) {
+  m.owner = &cls;
+  cls.memberNames.push_back(m.name);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, cls.membersRef);
+  lua_pushlightuserdata(L, &m);
+  lua_setfield(L, -2, m.name.c_str());
+  lua_pop(L, 1);
+}
+
+void addMethodEntry(lua_State *L, ClassInfo &cls, const std::string &name) {
+  cls.memberNames.push_back(name);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, cls.membersRef);
+  lua_insert(L, -2);
+  lua_setfield(L, -2, name.c_str());
+  lua_pop(L, 1);
+}
+
+void setMetaEntry(lua_State *L, ClassInfo &cls, const char *event) {
+  lua_rawgeti(L, LUA_REGISTRYINDEX, cls.metatableRef);
+  lua_insert(L, -2);
+  lua_setfield(L, -2, event);
+  lua_pop(L, 1);
+}
+
+void pushName(lua_State *L, const std::string &name) {
+  BindingContext &ctx = BindingContext::of(L);
+  ctx.functionNames.push_back(name);
+  lua_pushlightuserdata(L, &ctx.functionNames.back());
+}
+
+} // namespace lray::lua

@@ -1,0 +1,676 @@
+// Pipeline: script -> scene description. A small declarative binding layer
+// on the Lua 5.4 C API (in the spirit of LuaBridge3, written for LRay):
+// C++ objects live inside userdata, classes are registered one line per
+// constructor, attribute, method and operator, and every C++ exception
+// thrown by bound code reaches the script as a Lua error prefixed with the
+// script's "file:line: ".
+//
+//   reg.cls<FinishObj>("Finish")
+//       .ctor(+[](FinishObj &) {})
+//       .attr("diffuse", &Finish::diffuse)
+//       .method("copy", +[](const FinishObj &f) { ... });
+//
+// Object references between userdata (a Texture's finish) are kept alive by
+// Lua user values: the C++ field holds the raw pointer, user value `slot`
+// holds the userdata, so the getter returns the very same Lua object.
+#pragma once
+
+#include "bindings/affine.h"
+#include "math/color.h"
+#include "math/transform.h"
+#include "math/vec3.h"
+#include "scene/scene_error.h"
+
+#include <lua.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <type_traits>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace lray::lua {
+
+/// A script mistake found by bound C++ code; the message has no location
+/// (the call wrapper prefixes "file:line: ").
+struct ScriptError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// A value of the wrong type; the wrapper names the attribute or argument.
+struct TypeMismatch : std::runtime_error {
+  TypeMismatch(std::string expected_, std::string given_)
+      : std::runtime_error("expects " + expected_ + ", got " + given_),
+        expected(std::move(expected_)), given(std::move(given_)) {}
+  std::string expected, given;
+};
+
+/// Compact script location stored inside objects (4 + 4 bytes instead of a
+/// string per object): index into BindingContext::sourceNames and line.
+struct ScriptLoc {
+  uint32_t source = 0;
+  uint32_t line = 0;
+};
+
+struct ClassInfo;
+struct Member;
+
+/// Types registered as Lua classes with reference semantics declare
+/// `static constexpr const char *kLuaName` (used in "expects ..." messages).
+template <class T>
+concept LuaObject = requires { T::kLuaName; };
+
+/// A small dense number per C++ type (for O(1) per-state lookups).
+int nextTypeIndex();
+template <class T> int typeIndex() {
+  static const int index = nextTypeIndex();
+  return index;
+}
+
+/// One unique address per C++ type.
+template <class T> const void *typeTag() {
+  static const char tag = 0;
+  return &tag;
+}
+
+/// Every userdata made by this layer starts with this header; the magic
+/// number tells it apart from foreign userdata (io file handles).
+struct ObjHeader {
+  uint64_t magic;
+  const ClassInfo *cls;
+};
+inline constexpr uint64_t kObjMagic = 0x4c52617955644f62ull;
+inline constexpr size_t kPayloadOffset = sizeof(ObjHeader);
+
+using Getter = void (*)(lua_State *, void *obj, int self, const Member &);
+using Setter = void (*)(lua_State *, void *obj, int self, int value, const Member &);
+
+/// An attribute: type-erased getter/setter plus the member pointer they use.
+struct Member {
+  std::string name;
+  const ClassInfo *owner = nullptr;
+  Getter get = nullptr;
+  Setter set = nullptr; ///< null: read-only
+  alignas(8) unsigned char pointer[16]{}; ///< member pointer or accessor functions
+  alignas(8) unsigned char extra[16]{};   ///< validator function, if any
+  int slot = 0;                           ///< user value slot of an object reference
+};
+
+/// A registered Lua class. Several classes may share one C++ type (all
+/// pigments are PigmentObj); the first registered is the type's default
+/// class, used when a reference attribute is read before it was assigned.
+struct ClassInfo {
+  std::string name;
+  const void *typeTag = nullptr;
+  size_t size = 0;
+  int userValues = 0;
+  int metatableRef = LUA_NOREF;
+  int membersRef = LUA_NOREF;
+  void (*construct)(void *payload) = nullptr; ///< placement-new + class defaults
+  void (*destroy)(void *payload) = nullptr;   ///< null when trivially destructible
+  /// Class defaults (e.g. Wood's frequency): `applyDefaults` calls the
+  /// typed function stored in `defaultsFn`.
+  void (*applyDefaults)(const ClassInfo &, void *payload) = nullptr;
+  alignas(8) unsigned char defaultsFn[sizeof(void (*)())]{};
+  std::deque<Member> members;
+  std::vector<std::string> memberNames; ///< attributes and methods, for "did you mean"
+};
+
+/// Per-lua_State data, reachable from any C function through the state's
+/// extra space.
+class BindingContext {
+public:
+  explicit BindingContext(std::string baseDirectory) : baseDir(std::move(baseDirectory)) {
+    sourceNames.emplace_back();
+  }
+  static BindingContext &of(lua_State *L) {
+    return **static_cast<BindingContext **>(lua_getextraspace(L));
+  }
+  void attach(lua_State *L) { *static_cast<BindingContext **>(lua_getextraspace(L)) = this; }
+
+  /// Location of the innermost user-script frame (prelude frames skipped).
+  ScriptLoc currentLocation(lua_State *L);
+  SourceLocation resolve(ScriptLoc loc) const;
+  /// The default class of C++ type `tag` (first registered); asserts it exists.
+  const ClassInfo &primary(const void *tag) const;
+  /// Same, by typeIndex<T>() (the hot path: every Vector or Transform result).
+  template <class T> const ClassInfo &primary() {
+    size_t i = static_cast<size_t>(typeIndex<T>());
+    if (i >= primaryByIndex.size()) primaryByIndex.resize(i + 1, nullptr);
+    if (!primaryByIndex[i]) primaryByIndex[i] = &primary(typeTag<T>());
+    return *primaryByIndex[i];
+  }
+  /// Path of `file` resolved against the script folder.
+  std::string resolvePath(const std::string &file) const;
+
+  std::string baseDir;
+  std::string preludeSource = "=prelude"; ///< chunk name of the prelude
+  std::vector<std::unique_ptr<ClassInfo>> classes;
+  std::unordered_map<const void *, const ClassInfo *> primaryByType;
+  std::vector<const ClassInfo *> primaryByIndex; ///< cache of primaryByType by typeIndex
+  std::vector<std::string> sourceNames; ///< [0] = unknown
+  std::unordered_map<const void *, uint32_t> sourceIds;
+  std::vector<std::string> sourceTexts; ///< chunk names as Lua holds them, by id
+  std::deque<std::string> functionNames; ///< stable storage for error contexts
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  double timeoutSeconds = 0;
+
+private:
+  const char *lastSource_ = nullptr; ///< one-entry cache for currentLocation
+  uint32_t lastSourceId_ = 0;
+};
+
+// ---- userdata access ---------------------------------------------------------
+
+inline ObjHeader *objHeader(lua_State *L, int i) {
+  if (lua_type(L, i) != LUA_TUSERDATA || lua_rawlen(L, i) < sizeof(ObjHeader)) return nullptr;
+  auto *h = static_cast<ObjHeader *>(lua_touserdata(L, i));
+  return h->magic == kObjMagic ? h : nullptr;
+}
+inline void *payload(ObjHeader *h) { return reinterpret_cast<char *>(h) + kPayloadOffset; }
+
+/// The C++ object at stack index i if it is of type T, else null.
+template <class T> T *toObject(lua_State *L, int i) {
+  ObjHeader *h = objHeader(L, i);
+  if (!h || h->cls->typeTag != typeTag<T>()) return nullptr;
+  return static_cast<T *>(payload(h));
+}
+
+/// Pushes a new default-constructed object of class `cls`; returns it.
+void *pushNewObject(lua_State *L, const ClassInfo &cls);
+template <class T> T &pushNew(lua_State *L, const ClassInfo &cls) {
+  return *static_cast<T *>(pushNewObject(L, cls));
+}
+template <class T> T &pushNew(lua_State *L) {
+  return pushNew<T>(L, BindingContext::of(L).primary<T>());
+}
+
+/// "Vector", "number", "nil": what the value at i is, for messages.
+std::string typeName(lua_State *L, int i);
+/// Like typeName but numbers and strings show their value ("2.5", "'abc'").
+std::string describeValue(lua_State *L, int i);
+/// The closest of `names` to `word` by edit distance, or "" if none is close.
+std::string closestName(const std::string &word, const std::vector<std::string> &names);
+/// Formats a number the way messages and tostring show it.
+std::string formatNumber(double v);
+
+// ---- value conversion ----------------------------------------------------------
+
+template <class T> struct LuaValue; // check(L, i) -> T, push(L, v), expected()
+
+template <> struct LuaValue<double> {
+  static const char *expected() { return "a number"; }
+  static double check(lua_State *L, int i) {
+    if (lua_type(L, i) != LUA_TNUMBER) throw TypeMismatch(expected(), typeName(L, i));
+    double v = lua_tonumber(L, i);
+    if (!std::isfinite(v)) throw TypeMismatch("a finite number", describeValue(L, i));
+    return v;
+  }
+  static void push(lua_State *L, double v) { lua_pushnumber(L, v); }
+};
+
+template <> struct LuaValue<int> {
+  static const char *expected() { return "an integer"; }
+  static int check(lua_State *L, int i) {
+    if (lua_type(L, i) != LUA_TNUMBER) throw TypeMismatch(expected(), typeName(L, i));
+    double v = lua_tonumber(L, i);
+    if (v != std::floor(v) || v < -2147483648.0 || v > 2147483647.0)
+      throw TypeMismatch(expected(), describeValue(L, i));
+    return static_cast<int>(v);
+  }
+  static void push(lua_State *L, int v) { lua_pushinteger(L, v); }
+};
+
+template <> struct LuaValue<bool> {
+  static const char *expected() { return "a boolean"; }
+  static bool check(lua_State *L, int i) {
+    if (lua_type(L, i) != LUA_TBOOLEAN) throw TypeMismatch(expected(), typeName(L, i));
+    return lua_toboolean(L, i) != 0;
+  }
+  static void push(lua_State *L, bool v) { lua_pushboolean(L, v); }
+};
+
+template <> struct LuaValue<std::string> {
+  static const char *expected() { return "a string"; }
+  static std::string check(lua_State *L, int i) {
+    if (lua_type(L, i) != LUA_TSTRING) throw TypeMismatch(expected(), typeName(L, i));
+    size_t n = 0;
+    const char *s = lua_tolstring(L, i, &n);
+    return std::string(s, n);
+  }
+  static void push(lua_State *L, const std::string &v) { lua_pushlstring(L, v.data(), v.size()); }
+};
+
+/// Value classes (Vector, Color, Transform): copied in and out of userdata.
+template <class T, const char *Expected> struct LuaValueClass {
+  static const char *expected() { return Expected; }
+  static T check(lua_State *L, int i) {
+    if (T *p = toObject<T>(L, i)) return *p;
+    throw TypeMismatch(expected(), typeName(L, i));
+  }
+  static void push(lua_State *L, const T &v) { pushNew<T>(L) = v; }
+};
+inline constexpr char kVectorExpected[] = "a Vector";
+inline constexpr char kColorExpected[] = "a Color";
+inline constexpr char kTransformExpected[] = "a Transform";
+template <> struct LuaValue<Vec3> : LuaValueClass<Vec3, kVectorExpected> {};
+template <> struct LuaValue<Color> : LuaValueClass<Color, kColorExpected> {};
+/// Lua's Transform holds an Affine (see affine.h); a Transform-typed
+/// attribute converts on the way in and out.
+template <> struct LuaValue<Affine> : LuaValueClass<Affine, kTransformExpected> {};
+template <> struct LuaValue<Transform> {
+  static const char *expected() { return kTransformExpected; }
+  static Transform check(lua_State *L, int i) {
+    return LuaValue<Affine>::check(L, i).toTransform();
+  }
+  static void push(lua_State *L, const Transform &t) { LuaValue<Affine>::push(L, Affine::from(t)); }
+};
+
+/// Optional trailing arguments: nil or absent gives nullopt.
+template <class T> struct LuaValue<std::optional<T>> {
+  static const char *expected() { return LuaValue<T>::expected(); }
+  static std::optional<T> check(lua_State *L, int i) {
+    if (lua_isnoneornil(L, i)) return std::nullopt;
+    return LuaValue<T>::check(L, i);
+  }
+};
+
+/// Object references as function arguments / attribute values.
+template <LuaObject T> T &checkObject(lua_State *L, int i) {
+  if (T *p = toObject<T>(L, i)) return *p;
+  throw TypeMismatch(T::kLuaName, typeName(L, i));
+}
+
+/// The object or value at i by reference (for self arguments of raw functions).
+template <class T> T &checkObjectValue(lua_State *L, int i) {
+  if (T *p = toObject<T>(L, i)) return *p;
+  if constexpr (LuaObject<T>)
+    throw TypeMismatch(T::kLuaName, typeName(L, i));
+  else
+    throw TypeMismatch(LuaValue<T>::expected(), typeName(L, i));
+}
+
+/// Self (index 1) of a raw method; `context` is "Class:method" for the message.
+template <class T> T &checkSelf(lua_State *L, const char *context);
+
+template <class A> decltype(auto) checkArg(lua_State *L, int i) {
+  using Raw = std::remove_cvref_t<A>;
+  if constexpr (std::is_lvalue_reference_v<A> && !std::is_const_v<std::remove_reference_t<A>>) {
+    return checkObjectValue<Raw>(L, i); // a mutable self: the object inside the userdata
+  } else if constexpr (LuaObject<Raw>) {
+    static_assert(std::is_lvalue_reference_v<A>, "objects are passed by reference");
+    return checkObject<Raw>(L, i);
+  } else {
+    return LuaValue<Raw>::check(L, i);
+  }
+}
+
+template <class R> void pushResult(lua_State *L, R &&r) {
+  LuaValue<std::remove_cvref_t<R>>::push(L, std::forward<R>(r));
+}
+
+// ---- call protection -----------------------------------------------------------
+
+/// Pushes "file:line: message" using the innermost user-script frame.
+void pushErrorMessage(lua_State *L, const char *message);
+
+/// Runs f(); a C++ exception becomes a Lua error. lua_error is called only
+/// after every C++ object of the call is destroyed (Lua longjmps).
+template <class F> int protectedCall(lua_State *L, F &&f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc &) {
+    lua_pushliteral(L, "out of memory");
+  } catch (const std::exception &e) {
+    pushErrorMessage(L, e.what());
+  }
+  return lua_error(L);
+}
+
+/// Wraps a TypeMismatch from argument `index` as "context: argument n expects ..".
+[[noreturn]] void throwArgumentError(const char *context, int index, const TypeMismatch &e);
+[[noreturn]] void throwArgumentCount(const char *context, int maxArgs, int given);
+
+template <class T> T &checkSelf(lua_State *L, const char *context) {
+  try {
+    return checkObjectValue<T>(L, 1);
+  } catch (const TypeMismatch &e) {
+    throwArgumentError(context, 0, e);
+  }
+}
+
+template <class R, class... A, size_t... I>
+int invokeTyped(lua_State *L, R (*f)(A...), int first, int shown, const char *context,
+                std::index_sequence<I...>) {
+  int given = lua_gettop(L) - first + 1;
+  if (given > static_cast<int>(sizeof...(A)))
+    throwArgumentCount(context, static_cast<int>(sizeof...(A)) - (first - shown),
+                       given - (first - shown));
+  // Check every argument first (left to right) so messages name the first bad one.
+  auto check = [&](auto tag, int index) -> decltype(auto) {
+    using Arg = typename decltype(tag)::type;
+    try {
+      return checkArg<Arg>(L, index);
+    } catch (const TypeMismatch &e) {
+      throwArgumentError(context, index - first + shown, e);
+    }
+  };
+  std::tuple<decltype(check(std::type_identity<A>{}, 0))...> args{
+      check(std::type_identity<A>{}, first + static_cast<int>(I))...};
+  if constexpr (std::is_void_v<R>) {
+    f(std::get<I>(args)...);
+    return 0;
+  } else {
+    pushResult(L, f(std::get<I>(args)...));
+    return 1;
+  }
+}
+
+/// Calls init(self, args...) with the arguments at stack 2..N+1 (the new
+/// object sits at 1 and is not re-checked).
+template <class T, class... A, size_t... I>
+void invokeInit(lua_State *L, void (*init)(T &, A...), T &self, const char *context,
+                std::index_sequence<I...>) {
+  int given = lua_gettop(L) - 1;
+  if (given > static_cast<int>(sizeof...(A)))
+    throwArgumentCount(context, static_cast<int>(sizeof...(A)), given);
+  auto check = [&](auto tag, int index) -> decltype(auto) {
+    using Arg = typename decltype(tag)::type;
+    try {
+      return checkArg<Arg>(L, index);
+    } catch (const TypeMismatch &e) {
+      throwArgumentError(context, index - 1, e);
+    }
+  };
+  std::tuple<decltype(check(std::type_identity<A>{}, 0))...> args{
+      check(std::type_identity<A>{}, 2 + static_cast<int>(I))...};
+  init(self, std::get<I>(args)...);
+}
+
+// ---- closures ------------------------------------------------------------------
+
+template <class Fn> void pushFunctionPointer(lua_State *L, Fn f) {
+  void *mem = lua_newuserdatauv(L, sizeof(Fn), 0);
+  std::memcpy(mem, &f, sizeof(Fn));
+}
+template <class Fn> Fn upvalueFunction(lua_State *L, int up) {
+  Fn f;
+  std::memcpy(&f, lua_touserdata(L, lua_upvalueindex(up)), sizeof(Fn));
+  return f;
+}
+inline const char *upvalueName(lua_State *L, int up) {
+  return static_cast<const std::string *>(lua_touserdata(L, lua_upvalueindex(up)))->c_str();
+}
+
+/// A typed free function: upvalue 1 = pointer, 2 = name.
+template <class R, class... A> int typedFunctionThunk(lua_State *L) {
+  return protectedCall(L, [&] {
+    auto f = upvalueFunction<R (*)(A...)>(L, 1);
+    return invokeTyped(L, f, 1, 1, upvalueName(L, 2), std::index_sequence_for<A...>{});
+  });
+}
+
+/// A typed method: argument 1 is self and not counted in messages.
+template <class R, class... A> int typedMethodThunk(lua_State *L) {
+  return protectedCall(L, [&] {
+    auto f = upvalueFunction<R (*)(A...)>(L, 1);
+    return invokeTyped(L, f, 1, 0, upvalueName(L, 2), std::index_sequence_for<A...>{});
+  });
+}
+
+/// A raw lua_CFunction-like implementation that may throw C++ exceptions.
+using RawFunction = int (*)(lua_State *);
+int rawFunctionThunk(lua_State *L);
+
+// ---- attribute accessors -------------------------------------------------------
+
+template <class M> using Validator = const char *(*)(const M &);
+
+template <class T, class C, class M> M &memberRef(void *obj, const Member &m) {
+  M C::*p;
+  std::memcpy(&p, m.pointer, sizeof p);
+  return static_cast<C &>(*static_cast<T *>(obj)).*p;
+}
+
+template <class T, class C, class M>
+void getAttribute(lua_State *L, void *obj, int self, const Member &m) {
+  M &field = memberRef<T, C, M>(obj, m);
+  if constexpr (std::is_pointer_v<M>) {
+    using U = std::remove_pointer_t<M>;
+    if (field) {
+      lua_getiuservalue(L, self, m.slot);
+    } else {
+      // Unassigned reference: materialise the default object now, so that
+      // `t.finish.diffuse = 1` changes this texture's own finish.
+      U &fresh = pushNew<U>(L);
+      lua_pushvalue(L, -1);
+      lua_setiuservalue(L, self, m.slot);
+      memberRef<T, C, M>(obj, m) = &fresh;
+    }
+  } else {
+    LuaValue<M>::push(L, field);
+  }
+}
+
+template <class T, class C, class M>
+void setAttribute(lua_State *L, void *obj, int self, int value, const Member &m) {
+  if constexpr (std::is_pointer_v<M>) {
+    using U = std::remove_pointer_t<M>;
+    U &target = checkObject<U>(L, value);
+    lua_pushvalue(L, value);
+    lua_setiuservalue(L, self, m.slot);
+    memberRef<T, C, M>(obj, m) = &target;
+  } else {
+    M v = LuaValue<M>::check(L, value);
+    Validator<M> validate;
+    std::memcpy(&validate, m.extra, sizeof validate);
+    if (validate) {
+      if (const char *expected = validate(v)) throw TypeMismatch(expected, describeValue(L, value));
+    }
+    memberRef<T, C, M>(obj, m) = std::move(v);
+  }
+}
+
+template <class T> using PropertyGet = void (*)(lua_State *, T &, int self);
+template <class T> using PropertySet = void (*)(lua_State *, T &, int self, int value);
+
+template <class T> void getProperty(lua_State *L, void *obj, int self, const Member &m) {
+  PropertyGet<T> g;
+  std::memcpy(&g, m.pointer, sizeof g);
+  g(L, *static_cast<T *>(obj), self);
+}
+template <class T> void setProperty(lua_State *L, void *obj, int self, int value, const Member &m) {
+  PropertySet<T> s;
+  std::memcpy(&s, m.extra, sizeof s);
+  s(L, *static_cast<T *>(obj), self, value);
+}
+
+// ---- registration --------------------------------------------------------------
+
+/// Creates the metatable for a new class; returns its ClassInfo.
+ClassInfo &createClass(lua_State *L, const std::string &name, const void *tag, size_t size,
+                       void (*construct)(void *), void (*destroy)(void *));
+/// Adds a member entry (attribute) to the class's member table.
+void addMemberEntry(lua_State *L, ClassInfo &cls, Member &m);
+/// Adds a closure (method) to the class's member table; pops it.
+void addMethodEntry(lua_State *L, ClassInfo &cls, const std::string &name);
+/// Sets metatable[event] to the closure on top of the stack; pops it.
+void setMetaEntry(lua_State *L, ClassInfo &cls, const char *event);
+/// Pushes a full-userdata pointing at a stable copy of `name` (for messages).
+void pushName(lua_State *L, const std::string &name);
+
+/// Fluent builder for one class; each call registers one member.
+template <class T> class ClassBuilder {
+public:
+  ClassBuilder(lua_State *L, ClassInfo &cls) : L_(L), cls_(cls) {}
+
+  /// Defaults applied to every new instance (constructed or materialised).
+  ClassBuilder &defaults(void (*init)(T &)) {
+    static_assert(sizeof init == sizeof cls_.defaultsFn);
+    std::memcpy(cls_.defaultsFn, &init, sizeof init);
+    cls_.applyDefaults = +[](const ClassInfo &c, void *p) {
+      void (*f)(T &);
+      std::memcpy(&f, c.defaultsFn, sizeof f);
+      f(*static_cast<T *>(p));
+    };
+    return *this;
+  }
+
+  /// The global constructor function named after the class.
+  template <class... A> ClassBuilder &ctor(void (*init)(T &, A...)) {
+    pushFunctionPointer(L_, init);
+    lua_pushlightuserdata(L_, &cls_);
+    lua_pushcclosure(L_, &constructorThunkImpl<A...>, 2);
+    lua_setglobal(L_, cls_.name.c_str());
+    return *this;
+  }
+
+  /// A typed attribute; `validate` returns the expected description on failure.
+  template <class C, class M>
+  ClassBuilder &attr(const char *name, M C::*field, Validator<M> validate = nullptr) {
+    static_assert(std::is_base_of_v<C, T>);
+    Member &m = cls_.members.emplace_back();
+    m.name = name;
+    m.get = &getAttribute<T, C, M>;
+    m.set = &setAttribute<T, C, M>;
+    static_assert(sizeof field <= sizeof m.pointer);
+    std::memcpy(m.pointer, &field, sizeof field);
+    if constexpr (std::is_pointer_v<M>) {
+      m.slot = ++cls_.userValues;
+    } else {
+      std::memcpy(m.extra, &validate, sizeof validate);
+    }
+    addMemberEntry(L_, cls_, m);
+    return *this;
+  }
+
+  /// A read-only typed attribute.
+  template <class C, class M> ClassBuilder &readonly(const char *name, M C::*field) {
+    attr(name, field);
+    cls_.members.back().set = nullptr;
+    return *this;
+  }
+
+  /// An attribute with hand-written accessors (Mesh arrays).
+  ClassBuilder &property(const char *name, PropertyGet<T> get, PropertySet<T> set) {
+    Member &m = cls_.members.emplace_back();
+    m.name = name;
+    m.get = &getProperty<T>;
+    m.set = set ? &setProperty<T> : nullptr;
+    std::memcpy(m.pointer, &get, sizeof get);
+    std::memcpy(m.extra, &set, sizeof set);
+    addMemberEntry(L_, cls_, m);
+    return *this;
+  }
+
+  /// A typed method; the function's first parameter is self.
+  template <class R, class S, class... A> ClassBuilder &method(const char *name, R (*f)(S, A...)) {
+    pushFunctionPointer(L_, f);
+    pushName(L_, cls_.name + ":" + name);
+    lua_pushcclosure(L_, &typedMethodThunk<R, S, A...>, 2);
+    addMethodEntry(L_, cls_, name);
+    return *this;
+  }
+
+  /// A constructor that reads the Lua stack itself; upvalue 2 is this class.
+  ClassBuilder &rawCtor(RawFunction f) {
+    pushFunctionPointer(L_, f);
+    lua_pushlightuserdata(L_, &cls_);
+    lua_pushcclosure(L_, &rawFunctionThunk, 2);
+    lua_setglobal(L_, cls_.name.c_str());
+    return *this;
+  }
+
+  /// Reserves a user value slot for the binding code's own use (keep-alive lists).
+  int userValueSlot() { return ++cls_.userValues; }
+
+  /// A method that reads the Lua stack itself (self at index 1).
+  ClassBuilder &rawMethod(const char *name, RawFunction f) {
+    pushFunctionPointer(L_, f);
+    lua_pushcclosure(L_, &rawFunctionThunk, 1);
+    addMethodEntry(L_, cls_, name);
+    return *this;
+  }
+
+  /// A metamethod ("__add", "__tostring", ...).
+  ClassBuilder &meta(const char *event, RawFunction f) {
+    pushFunctionPointer(L_, f);
+    lua_pushcclosure(L_, &rawFunctionThunk, 1);
+    setMetaEntry(L_, cls_, event);
+    return *this;
+  }
+
+  /// A typed metamethod, e.g. op("__unm", +[](const Vec3 &v) { return -v; }).
+  template <class R, class... A> ClassBuilder &op(const char *event, R (*f)(A...)) {
+    pushFunctionPointer(L_, f);
+    pushName(L_, cls_.name + " " + event);
+    lua_pushcclosure(L_, &typedFunctionThunk<R, A...>, 2);
+    setMetaEntry(L_, cls_, event);
+    return *this;
+  }
+
+  ClassInfo &info() { return cls_; }
+
+private:
+  template <class... A> static int constructorThunkImpl(lua_State *L) {
+    return protectedCall(L, [&] {
+      auto init = upvalueFunction<void (*)(T &, A...)>(L, 1);
+      const auto &cls = *static_cast<const ClassInfo *>(lua_touserdata(L, lua_upvalueindex(2)));
+      T &obj = pushNew<T>(L, cls);
+      if constexpr (requires { obj.loc; }) obj.loc = BindingContext::of(L).currentLocation(L);
+      lua_rotate(L, 1, 1); // object at 1, arguments from 2
+      invokeInit(L, init, obj, cls.name.c_str(), std::index_sequence_for<A...>{});
+      lua_settop(L, 1);
+      return 1;
+    });
+  }
+
+  lua_State *L_;
+  ClassInfo &cls_;
+};
+
+/// Registers classes and global functions into one lua_State.
+class Registry {
+public:
+  explicit Registry(lua_State *L) : L_(L) {}
+
+  template <class T> ClassBuilder<T> cls(const std::string &name) {
+    static_assert(alignof(T) <= 8, "Lua userdata is 8-byte aligned");
+    void (*destroy)(void *) = nullptr;
+    if constexpr (!std::is_trivially_destructible_v<T>)
+      destroy = +[](void *p) { static_cast<T *>(p)->~T(); };
+    ClassInfo &info = createClass(
+        L_, name, typeTag<T>(), sizeof(T), +[](void *p) { new (p) T(); }, destroy);
+    return ClassBuilder<T>(L_, info);
+  }
+
+  /// A typed global function.
+  template <class R, class... A> Registry &function(const char *name, R (*f)(A...)) {
+    pushFunctionPointer(L_, f);
+    pushName(L_, name);
+    lua_pushcclosure(L_, &typedFunctionThunk<R, A...>, 2);
+    lua_setglobal(L_, name);
+    return *this;
+  }
+
+  /// A global function that reads the Lua stack itself.
+  Registry &rawFunction(const char *name, RawFunction f) {
+    pushFunctionPointer(L_, f);
+    lua_pushcclosure(L_, &rawFunctionThunk, 1);
+    lua_setglobal(L_, name);
+    return *this;
+  }
+
+private:
+  lua_State *L_;
+};
+
+} // namespace lray::lua

@@ -1,0 +1,17 @@
+// Pipeline: script -> scene description. Registration of every LRay class
+// and function (SPEC sections 3 to 7) into a lua_State, one file per family.
+#pragma once
+
+#include "bindings/lua_binding.h"
+
+namespace lray::lua {
+
+void registerValueClasses(Registry &reg);   ///< Vector, Color, Transform and its factories
+void registerTextureClasses(Registry &reg); ///< Texture, Finish, pigments, texture maps
+void registerEntityClasses(Registry &reg);  ///< Sphere, Cylinder, Cone, Cube, Mesh, mesh_from_obj
+void registerSceneClasses(Registry &reg);   ///< SceneInfo, Scene, Perspective, Light
+
+/// All of the above, in dependency order; the state's BindingContext must be attached.
+void registerAllClasses(lua_State *L);
+
+} // namespace lray::lua

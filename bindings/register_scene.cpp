@@ -1,0 +1,157 @@
+// Pipeline: script -> scene description. SceneInfo, Scene, Perspective and
+// Light (SPEC 4 and 6).
+#include "bindings/register_classes.h"
+#include "bindings/scene_objects.h"
+#include "bindings/validators.h"
+
+#include <cassert>
+
+namespace lray::lua {
+
+namespace {
+
+// User value slot of the Scene's keep-alive list of entities and lights
+// (after slot 1, the camera).
+constexpr int kKeepAliveSlot = 2;
+
+// Keeps `value` alive as long as the scene: appended to a list of chunks of
+// kChunk entries. Only the newest chunk changes, so the generational
+// collector does not re-traverse a million-entry table at every minor cycle.
+constexpr lua_Integer kChunk = 4096;
+
+void keepAlive(lua_State *L, int scene, int value) {
+  if (lua_getiuservalue(L, scene, kKeepAliveSlot) != LUA_TTABLE) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_setiuservalue(L, scene, kKeepAliveSlot);
+  }
+  int chunks = lua_gettop(L);
+  auto n = static_cast<lua_Integer>(lua_rawlen(L, chunks));
+  if (n == 0 || lua_rawgeti(L, chunks, n) != LUA_TTABLE ||
+      static_cast<lua_Integer>(lua_rawlen(L, -1)) >= kChunk) {
+    lua_settop(L, chunks);
+    lua_createtable(L, static_cast<int>(kChunk), 0);
+    lua_pushvalue(L, -1);
+    lua_rawseti(L, chunks, n + 1);
+  }
+  lua_pushvalue(L, value);
+  lua_rawseti(L, -2, static_cast<lua_Integer>(lua_rawlen(L, -2) + 1));
+  lua_settop(L, chunks - 1);
+}
+
+void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int argument,
+               lua_Integer listIndex) {
+  if (const EntityObj *e = toObject<EntityObj>(L, value)) {
+    scene.entities.push_back({e, false});
+  } else if (const MeshObj *m = toObject<MeshObj>(L, value)) {
+    scene.entities.push_back({m, true});
+  } else {
+    std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
+    throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
+                      where + " expects " + EntityObj::kLuaName + ", got " + typeName(L, value));
+  }
+  keepAlive(L, 1, value);
+}
+
+void addLight(lua_State *L, SceneObj &scene, int value, const char *method, int argument,
+              lua_Integer listIndex) {
+  const LightObj *light = toObject<LightObj>(L, value);
+  if (!light) {
+    std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
+    throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
+                      where + " expects a Light, got " + typeName(L, value));
+  }
+  scene.lights.push_back(light);
+  keepAlive(L, 1, value);
+}
+
+template <void (*Add)(lua_State *, SceneObj &, int, const char *, int, lua_Integer)>
+int addOne(lua_State *L, const char *method) {
+  SceneObj &scene = checkSelf<SceneObj>(L, (std::string("Scene:") + method).c_str());
+  if (lua_gettop(L) != 2)
+    throwArgumentCount((std::string("Scene:") + method).c_str(), 1, lua_gettop(L) - 1);
+  Add(L, scene, 2, method, 1, 0);
+  return 0;
+}
+
+template <void (*Add)(lua_State *, SceneObj &, int, const char *, int, lua_Integer)>
+int addList(lua_State *L, const char *method) {
+  SceneObj &scene = checkSelf<SceneObj>(L, (std::string("Scene:") + method).c_str());
+  if (lua_type(L, 2) != LUA_TTABLE)
+    throw ScriptError(std::string("Scene:") + method + ": argument 1 expects a list, got " +
+                      typeName(L, 2));
+  lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, 2));
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, 2, i);
+    Add(L, scene, lua_gettop(L), method, 1, i);
+    lua_pop(L, 1);
+  }
+  return 0;
+}
+
+int addEntityMethod(lua_State *L) { return addOne<&addEntity>(L, "add_entity"); }
+int addEntitiesMethod(lua_State *L) { return addList<&addEntity>(L, "add_entities"); }
+int addLightMethod(lua_State *L) { return addOne<&addLight>(L, "add_light"); }
+int addLightsMethod(lua_State *L) { return addList<&addLight>(L, "add_lights"); }
+
+} // namespace
+
+void registerSceneClasses(Registry &reg) {
+  reg.cls<SceneInfoObj>("SceneInfo")
+      .ctor(+[](SceneInfoObj &) {})
+      .attr("image_width", &SceneInfo::imageWidth, positiveInteger)
+      .attr("image_height", &SceneInfo::imageHeight, positiveInteger)
+      .attr("frames", &SceneInfo::frames, positiveInteger)
+      .attr("samples", &SceneInfo::samples, positiveInteger)
+      .attr("start_clock", &SceneInfo::startClock)
+      .attr("end_clock", &SceneInfo::endClock);
+
+  reg.cls<CameraObj>("Perspective")
+      .ctor(+[](CameraObj &c, std::optional<double> fov, std::optional<double> aspect) {
+        if (fov) {
+          if (const char *expected = fieldOfView(*fov))
+            throw ScriptError(std::string("Perspective: argument 1 expects ") + expected +
+                              ", got " + formatNumber(*fov));
+          c.fov = *fov;
+        }
+        if (aspect) {
+          if (!(*aspect > 0))
+            throw ScriptError("Perspective: argument 2 expects a positive number, got " +
+                              formatNumber(*aspect));
+          c.aspect = *aspect;
+        }
+      })
+      .attr("transform", &Camera::worldFromCamera)
+      .attr("fov", &Camera::fov, fieldOfView)
+      .attr("aspect", &Camera::aspect, positiveNumber);
+
+  reg.cls<LightObj>("Light")
+      .ctor(+[](LightObj &) {})
+      .attr("color", &Light::color)
+      .attr("rows", &Light::rows, positiveInteger)
+      .attr("cols", &Light::cols, positiveInteger)
+      .attr("area", &Light::area)
+      .attr("transform", &Light::worldFromLight);
+
+  auto scene = reg.cls<SceneObj>("Scene");
+  scene.ctor(+[](SceneObj &) {})
+      .attr("background_color", &SceneObj::background)
+      .attr("camera", &SceneObj::camera)
+      .rawMethod("add_entity", &addEntityMethod)
+      .rawMethod("add_entities", &addEntitiesMethod)
+      .rawMethod("add_light", &addLightMethod)
+      .rawMethod("add_lights", &addLightsMethod);
+  [[maybe_unused]] int slot = scene.userValueSlot();
+  assert(slot == kKeepAliveSlot);
+}
+
+void registerAllClasses(lua_State *L) {
+  Registry reg(L);
+  registerValueClasses(reg);
+  registerTextureClasses(reg);
+  registerEntityClasses(reg);
+  registerSceneClasses(reg);
+}
+
+} // namespace lray::lua

@@ -1,0 +1,16 @@
+// Pipeline: script -> scene description. The libraries a scene script gets
+// (SPEC 2, sandbox ext): base, math, string, table, utf8, read-only io.open
+// and io.lines, os.clock/time/date; text-only load. --unsafe opens all.
+#pragma once
+
+#include <lua.hpp>
+
+#include <string>
+
+namespace lray::lua {
+
+/// Opens the libraries into L. Relative paths given to io.open, io.lines,
+/// loadfile and dofile resolve against `baseDir` (the script's folder).
+void openLibraries(lua_State *L, bool unsafe, const std::string &baseDir);
+
+} // namespace lray::lua

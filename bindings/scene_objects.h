@@ -1,0 +1,113 @@
+// Pipeline: script -> scene description. The C++ objects that live inside
+// Lua userdata while a scene script runs. They are reference types, as in
+// the original LRay: a Texture assigned to two entities is one object, and
+// changing it later is seen by both. Pointers between them are kept alive
+// by Lua user values (see lua_binding.h); the converter (scene_converter.h)
+// turns them into the plain model of src/scene/scene.h.
+#pragma once
+
+#include "bindings/lua_binding.h"
+#include "scene/mesh_builder.h"
+#include "scene/scene.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lray::lua {
+
+struct SceneInfoObj : SceneInfo {
+  static constexpr const char *kLuaName = "a SceneInfo";
+  ScriptLoc loc;
+};
+
+struct FinishObj : Finish {
+  static constexpr const char *kLuaName = "a Finish";
+};
+
+/// TextureMap2D, UVMap, SphericalMap, CylindricalMap.
+struct Map2DObj : TextureMap {
+  static constexpr const char *kLuaName =
+      "a 2-D texture map (TextureMap2D, UVMap, SphericalMap or CylindricalMap)";
+};
+
+/// TextureMap3D, LinearMap.
+struct Map3DObj : TextureMap {
+  static constexpr const char *kLuaName = "a 3-D texture map (TextureMap3D or LinearMap)";
+};
+
+/// Every pigment class; `kind` says which.
+struct PigmentObj : Pigment {
+  static constexpr const char *kLuaName =
+      "a pigment (ColorPigment, CheckerPigment2D, CheckerPigment3D, MarblePigment3D, "
+      "WoodPigment3D or ImagePigment2D)";
+  PigmentObj *pigment1 = nullptr; ///< Checker*; null = default white
+  PigmentObj *pigment2 = nullptr;
+  Map2DObj *map2 = nullptr; ///< 2-D pigments; null = TextureMap2D()
+  Map3DObj *map3 = nullptr; ///< 3-D pigments; null = TextureMap3D()
+  std::string imagePath;    ///< ImagePigment2D: absolute path
+  ScriptLoc loc;
+};
+
+struct TextureObj {
+  static constexpr const char *kLuaName = "a Texture";
+  FinishObj *finish = nullptr;   ///< null = Finish()
+  PigmentObj *pigment = nullptr; ///< null = white ColorPigment
+};
+
+/// Sphere, Cylinder, Cone, Cube. Kept small (one per object in big scenes).
+struct EntityObj {
+  static constexpr const char *kLuaName = "an entity (Sphere, Cylinder, Cone, Cube or Mesh)";
+  Affine transform;                ///< worldFromObject
+  TextureObj *texture = nullptr;   ///< null = Texture()
+  ScriptLoc loc;
+  ShapeKind kind = ShapeKind::Sphere;
+  bool open = false;
+};
+
+/// Geometry shared by a mesh and its copies; the built MeshData is cached
+/// here so copies share one set of arrays.
+struct MeshGeometry {
+  MeshSource source;
+  mutable MeshDataPtr built; ///< null until first needed; reset when the source changes
+};
+
+struct MeshObj {
+  static constexpr const char *kLuaName = "a Mesh";
+  std::shared_ptr<MeshGeometry> geometry = std::make_shared<MeshGeometry>();
+  Affine transform;
+  TextureObj *texture = nullptr;
+  ScriptLoc loc;
+  bool smooth = false;
+
+  /// The geometry for writing: unshared first (copy on write), cache dropped.
+  MeshSource &editSource() {
+    if (geometry.use_count() > 1) geometry = std::make_shared<MeshGeometry>(*geometry);
+    geometry->built.reset();
+    return geometry->source;
+  }
+};
+
+struct CameraObj : Camera {
+  static constexpr const char *kLuaName = "a camera (Perspective)";
+};
+
+struct LightObj : Light {
+  static constexpr const char *kLuaName = "a Light";
+};
+
+/// One entry of Scene:add_entity, in call order.
+struct EntityRef {
+  const void *object;
+  bool isMesh;
+};
+
+struct SceneObj {
+  static constexpr const char *kLuaName = "a Scene";
+  Color background{0, 0, 0};
+  CameraObj *camera = nullptr; ///< null = Perspective()
+  std::vector<EntityRef> entities;
+  std::vector<const LightObj *> lights;
+};
+
+} // namespace lray::lua

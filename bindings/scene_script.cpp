@@ -1,0 +1,115 @@
+// Pipeline: script -> scene description. See scene_script.h.
+#include "bindings/scene_script.h"
+
+#include "bindings/scene_converter.h"
+#include "bindings/script_state.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace lray {
+
+struct SceneScript::Impl {
+  Impl(const std::string &baseDir, const ScriptOptions &opts)
+      : state(baseDir, opts), options(opts) {}
+  lua::ScriptState state;
+  ScriptOptions options;
+  std::string displayName;
+  SceneInfo info;
+  std::vector<std::string> warnings;
+};
+
+namespace {
+
+std::string readScript(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string folderOf(const std::string &path) {
+  std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+} // namespace
+
+SceneScript::SceneScript(const std::string &path, ScriptOptions options)
+    : SceneScript(readScript(path), "@" + path, folderOf(path), options, true) {}
+
+SceneScript SceneScript::fromString(const std::string &source, const std::string &chunkName,
+                                    const std::string &baseDir, ScriptOptions options) {
+  return SceneScript(source, "=" + chunkName, baseDir, options, true);
+}
+
+SceneScript::SceneScript(const std::string &source, const std::string &chunkName,
+                         const std::string &baseDir, ScriptOptions options, bool)
+    : impl_(std::make_unique<Impl>(baseDir, options)) {
+  impl_->displayName = chunkName.substr(1);
+  lua::ScriptState &state = impl_->state;
+  lua_State *L = state.state();
+  state.run(source, chunkName);
+
+  SourceLocation where{impl_->displayName, 0};
+  lua_getglobal(L, "scene_info");
+  if (const auto *info = lua::toObject<lua::SceneInfoObj>(L, -1)) {
+    impl_->info = *info;
+    SourceLocation loc = state.context().resolve(info->loc);
+    if (loc.line > 0) where = loc;
+  } else if (!lua_isnil(L, -1)) {
+    std::string given = lua::typeName(L, -1);
+    lua_pop(L, 1);
+    throw SceneError(where, "scene_info must be a SceneInfo, got " + given);
+  }
+  lua_pop(L, 1);
+  validateSceneInfo(impl_->info, options.maxPixels, where.str());
+
+  lua_getglobal(L, "scene");
+  bool isFunction = lua_isfunction(L, -1);
+  lua_pop(L, 1);
+  if (!isFunction)
+    throw SceneError(SourceLocation{impl_->displayName, 0},
+                     "the script must define a global function scene(clock) returning a Scene");
+}
+
+SceneScript::SceneScript(SceneScript &&) noexcept = default;
+SceneScript &SceneScript::operator=(SceneScript &&) noexcept = default;
+SceneScript::~SceneScript() = default;
+
+const SceneInfo &SceneScript::info() const { return impl_->info; }
+
+const std::vector<std::string> &SceneScript::warnings() const { return impl_->warnings; }
+
+Scene SceneScript::buildFrame(double clock) {
+  lua::ScriptState &state = impl_->state;
+  lua_State *L = state.state();
+  impl_->warnings.clear();
+  lua_getglobal(L, "scene");
+  lua_pushnumber(L, clock);
+  state.protectedCall(1, 1);
+  const auto *sceneObj = lua::toObject<lua::SceneObj>(L, -1);
+  if (!sceneObj) {
+    std::string given = lua::typeName(L, -1);
+    lua_pop(L, 1);
+    throw SceneError(SourceLocation{impl_->displayName, 0},
+                     "scene(clock) must return a Scene, got " + given);
+  }
+  Scene scene;
+  try {
+    scene = lua::convertScene(*sceneObj, state.context());
+  } catch (...) {
+    lua_pop(L, 1);
+    throw;
+  }
+  // The frame's Lua objects are garbage now. No full collection here: the
+  // allocator keeps freed blocks for the next frame anyway, and the next
+  // frame's allocations drive the collector.
+  lua_pop(L, 1);
+  if (auto warning = aspectWarning(impl_->info, scene.camera)) impl_->warnings.push_back(*warning);
+  return scene;
+}
+
+} // namespace lray

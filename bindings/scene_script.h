@@ -1,0 +1,58 @@
+// Pipeline: script -> scene description. The one entry point the render
+// loop uses: load a scene file once, then ask it for each frame's Scene in
+// the plain model. No Lua type appears in this header.
+#pragma once
+
+#include "scene/scene.h"
+#include "scene/scene_checks.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lray {
+
+struct ScriptOptions {
+  bool unsafe = false;          ///< lift the sandbox (--unsafe)
+  double timeoutSeconds = 60;   ///< --script-timeout; <= 0 means no limit. Applies to the
+                                ///< initial run and to each scene(clock) call separately.
+  uint64_t maxPixels = kDefaultMaxPixels; ///< --max-pixels: cap on width*height*samples^2
+};
+
+/// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.
+class SceneScript {
+public:
+  /// Loads and runs the scene file; relative paths inside the script (images,
+  /// OBJ, io.open) resolve against the script's folder. Throws SceneError with
+  /// "file:line: message" (plus a Lua traceback for runtime errors).
+  explicit SceneScript(const std::string &path, ScriptOptions options = {});
+  /// Same from source text; `chunkName` names it in messages, `baseDir`
+  /// resolves relative paths (for tests).
+  static SceneScript fromString(const std::string &source, const std::string &chunkName,
+                                const std::string &baseDir = ".", ScriptOptions options = {});
+  SceneScript(SceneScript &&) noexcept;
+  SceneScript &operator=(SceneScript &&) noexcept;
+  ~SceneScript();
+
+  /// From the global scene_info (defaults if absent), validated (positive
+  /// sizes, width*height*samples^2 <= maxPixels).
+  const SceneInfo &info() const;
+
+  /// Calls scene(clock) and converts the returned Scene into the plain model.
+  /// Throws SceneError (message + traceback); the Lua state is not touched
+  /// after this returns.
+  Scene buildFrame(double clock);
+
+  /// Warnings from the last buildFrame (e.g. camera aspect vs image aspect).
+  const std::vector<std::string> &warnings() const;
+
+  struct Impl;
+
+private:
+  SceneScript(const std::string &source, const std::string &chunkName, const std::string &baseDir,
+              ScriptOptions options, bool);
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace lray

@@ -1,0 +1,103 @@
+// Pipeline: script -> scene description. See script_state.h.
+#include "bindings/script_state.h"
+
+#include "bindings/register_classes.h"
+#include "bindings/sandbox.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace lray::lua {
+
+namespace {
+
+int traceback(lua_State *L) {
+  const char *message = lua_tostring(L, 1);
+  if (!message) {
+    if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) return 1;
+    message = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+  }
+  luaL_traceback(L, L, message, 1);
+  return 1;
+}
+
+void timeoutHook(lua_State *L, lua_Debug *) {
+  const BindingContext &ctx = BindingContext::of(L);
+  if (std::chrono::steady_clock::now() <= ctx.deadline) return;
+  {
+    std::string message = "the script ran longer than " + formatNumber(ctx.timeoutSeconds) +
+                          " seconds and was stopped (raise the limit with --script-timeout)";
+    pushErrorMessage(L, message.c_str());
+  } // destroyed before lua_error longjmps
+  lua_error(L);
+}
+
+// An error outside any protected call is a bug in this layer.
+int panic(lua_State *L) {
+  std::fprintf(stderr, "lray: unprotected Lua error: %s\n", lua_tostring(L, -1));
+  std::abort();
+}
+
+// How many VM instructions between deadline checks: cheap, yet a runaway
+// loop is stopped within milliseconds of its deadline.
+constexpr int kHookInstructions = 10000;
+
+} // namespace
+
+ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &options)
+    : ctx_(std::make_unique<BindingContext>(baseDir.empty() ? std::string(".") : baseDir)) {
+  L_ = lua_newstate(&LuaAllocator::allocate, allocator_.get());
+  if (!L_) throw SceneError("cannot create a Lua state (out of memory)");
+  lua_atpanic(L_, &panic);
+  ctx_->attach(L_);
+  ctx_->timeoutSeconds = options.timeoutSeconds;
+  // Scene scripts make many short-lived values (Vector, Transform):
+  // generational collection frees them young and keeps the peak low.
+  lua_gc(L_, LUA_GCGEN, 0, 0);
+  openLibraries(L_, options.unsafe, ctx_->baseDir);
+  registerAllClasses(L_);
+  if (options.timeoutSeconds > 0) lua_sethook(L_, &timeoutHook, LUA_MASKCOUNT, kHookInstructions);
+  try {
+    run(kPreludeSource, ctx_->preludeSource);
+  } catch (...) {
+    lua_close(L_); // the destructor does not run for a failed constructor
+    L_ = nullptr;
+    throw;
+  }
+}
+
+ScriptState::~ScriptState() {
+  if (L_) lua_close(L_);
+}
+
+void ScriptState::protectedCall(int nargs, int nresults) {
+  int handler = lua_gettop(L_) - nargs;
+  lua_pushcfunction(L_, &traceback);
+  lua_insert(L_, handler);
+  if (ctx_->timeoutSeconds > 0) {
+    auto budget = std::chrono::duration<double>(std::min(ctx_->timeoutSeconds, 1e9));
+    ctx_->deadline = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(budget);
+  }
+  int status = lua_pcall(L_, nargs, nresults, handler);
+  ctx_->deadline = std::chrono::steady_clock::time_point::max();
+  lua_remove(L_, handler);
+  if (status != LUA_OK) {
+    std::string message = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "unknown Lua error";
+    lua_pop(L_, 1);
+    throw SceneError(message);
+  }
+}
+
+void ScriptState::run(const std::string &source, const std::string &chunkName) {
+  if (luaL_loadbufferx(L_, source.data(), source.size(), chunkName.c_str(), "t") != LUA_OK) {
+    std::string message = lua_tostring(L_, -1);
+    lua_pop(L_, 1);
+    throw SceneError(message);
+  }
+  protectedCall(0, 0);
+}
+
+} // namespace lray::lua

@@ -1,0 +1,13 @@
+// Pipeline: script -> scene description. Attribute validators: each returns
+// what was expected when the value is rejected, else null.
+#pragma once
+
+namespace lray::lua {
+
+inline const char *positiveInteger(const int &v) { return v > 0 ? nullptr : "a positive integer"; }
+inline const char *positiveNumber(const double &v) { return v > 0 ? nullptr : "a positive number"; }
+inline const char *fieldOfView(const double &v) {
+  return v > 0 && v < 180 ? nullptr : "an angle between 0 and 180 degrees";
+}
+
+} // namespace lray::lua

@@ -1,0 +1,22 @@
+// Pipeline: scene description. Native Wavefront OBJ reader behind the
+// prelude's mesh_from_obj(path): large files never pass through Lua.
+#pragma once
+
+#include "scene/mesh_builder.h"
+
+#include <string>
+
+namespace lray {
+
+/// Reads v, vt, vn and f statements (all four corner forms v, v/vt, v//vn,
+/// v/vt/vn; negative = relative indices; polygons kept whole, to be fanned
+/// by buildMeshData). Accepts CRLF line endings, comments and trailing
+/// spaces; ignores grouping/material statements (o g s usemtl mtllib) and
+/// non-surface elements (l p vp). Anything else malformed throws SceneError
+/// "displayName:line: message"; nothing is dropped silently.
+MeshSource loadObj(const std::string &path, const std::string &displayName);
+
+/// Same, from the text of an OBJ file (for tests).
+MeshSource parseObj(const std::string &text, const std::string &displayName);
+
+} // namespace lray

@@ -1,0 +1,39 @@
+// Pipeline: scene description. See scene_checks.h.
+#include "scene/scene_checks.h"
+
+#include <cmath>
+
+namespace lray {
+
+void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::string &where) {
+  SourceLocation loc{where, 0};
+  auto positive = [&](int v, const char *name) {
+    if (v <= 0)
+      throw SceneError(loc, std::string("SceneInfo: ") + name +
+                                " must be a positive integer, got " + std::to_string(v));
+  };
+  positive(info.imageWidth, "image_width");
+  positive(info.imageHeight, "image_height");
+  positive(info.frames, "frames");
+  positive(info.samples, "samples");
+  if (!std::isfinite(info.startClock) || !std::isfinite(info.endClock))
+    throw SceneError(loc, "SceneInfo: start_clock and end_clock must be finite numbers");
+  // 128-bit-safe: each factor is below 2^31, so do it in long double steps.
+  long double pixels = static_cast<long double>(info.imageWidth) * info.imageHeight *
+                       info.samples * info.samples;
+  if (pixels > static_cast<long double>(maxPixels))
+    throw SceneError(loc, "SceneInfo: image_width * image_height * samples^2 = " +
+                              std::to_string(static_cast<unsigned long long>(pixels)) +
+                              " exceeds the limit of " + std::to_string(maxPixels) +
+                              " (raise it with --max-pixels)");
+}
+
+std::optional<std::string> aspectWarning(const SceneInfo &info, const Camera &camera) {
+  double imageAspect = double(info.imageWidth) / info.imageHeight;
+  if (std::fabs(camera.aspect - imageAspect) <= 0.01 * imageAspect) return std::nullopt;
+  return "camera aspect " + std::to_string(camera.aspect) + " differs from the image's " +
+         std::to_string(info.imageWidth) + "/" + std::to_string(info.imageHeight) + " = " +
+         std::to_string(imageAspect) + " by more than 1 %: the image will be stretched";
+}
+
+} // namespace lray

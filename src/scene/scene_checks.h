@@ -1,0 +1,27 @@
+// Pipeline: scene description. Checks on a converted scene that the script
+// layer and the command line (after --width/--height/--samples overrides)
+// both apply.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace lray {
+
+/// Default cap on image_width * image_height * samples^2 (--max-pixels; the
+/// CLI default in src/app/options.h is the same 1e9).
+inline constexpr uint64_t kDefaultMaxPixels = 1000000000;
+
+/// Throws SceneError (prefixed with `where`, e.g. the script name) when a
+/// size is not a positive integer, the clocks are not finite, or
+/// width * height * samples^2 exceeds maxPixels.
+void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::string &where);
+
+/// The SPEC 4 warning when the camera aspect differs from the image's by
+/// more than 1 %, else nothing.
+std::optional<std::string> aspectWarning(const SceneInfo &info, const Camera &camera);
+
+} // namespace lray

@@ -1,0 +1,2 @@
+list(APPEND LRAY_CORE_SOURCES src/scene/mesh_builder.cpp src/scene/obj_loader.cpp
+     src/scene/scene_checks.cpp)

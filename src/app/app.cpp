@@ -4,6 +4,7 @@
 #include "app/progress_bar.h"
 #include "app/render_stats.h"
 #include "bindings/scene_script.h"
+#include "scene/scene_checks.h"
 #include "app/frame_pipeline.h"
 #include "shading/image_cache.h"
 
@@ -56,16 +57,6 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
   if (ec) throw SceneError("cannot write '" + path + "': " + ec.message());
 }
 
-// SPEC 4: a camera aspect more than 1 % off the image's stretches the picture.
-void warnIfStretched(double cameraAspect, const SceneInfo &info) {
-  double imageAspect = static_cast<double>(info.imageWidth) / info.imageHeight;
-  if (std::fabs(cameraAspect - imageAspect) > 0.01 * imageAspect)
-    std::fprintf(stderr,
-                 "lray: warning: camera aspect %.4g differs from the image's %dx%d (%.4g); the "
-                 "image is stretched\n",
-                 cameraAspect, info.imageWidth, info.imageHeight, imageAspect);
-}
-
 int run(const Options &opt) {
   auto start = std::chrono::steady_clock::now();
   RunStats stats;
@@ -86,6 +77,7 @@ int run(const Options &opt) {
   ScriptOptions scriptOptions;
   scriptOptions.unsafe = opt.unsafe;
   scriptOptions.timeoutSeconds = opt.scriptTimeout;
+  scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
   auto t0 = std::chrono::steady_clock::now();
   SceneScript script(opt.scenePath, scriptOptions);
   stats.loadSeconds = secondsSince(t0);
@@ -103,7 +95,6 @@ int run(const Options &opt) {
 
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
-  bool warnedAspect = false;
   for (int frame = first; frame <= last; ++frame) {
     FrameStats frameStats;
     std::string path =
@@ -113,10 +104,9 @@ int run(const Options &opt) {
     Film film = renderScriptFrame(script, info, frame, opt.backend, images, frameStats,
                                   [&bar](size_t done, size_t total) { bar.update(done, total); });
     bar.finish(frameStats.renderSeconds);
-    if (!warnedAspect) {
-      warnedAspect = true;
-      warnIfStretched(frameStats.cameraAspect, info);
-    }
+    if (frame == first)
+      for (const std::string &warning : frameStats.warnings)
+        std::fprintf(stderr, "lray: warning: %s\n", warning.c_str());
 
     t0 = std::chrono::steady_clock::now();
     writeImage(film, path, opt.format, opt.linear);
@@ -144,19 +134,7 @@ SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options
   if (options.width) info.imageWidth = *options.width;
   if (options.height) info.imageHeight = *options.height;
   if (options.samples) info.samples = *options.samples;
-  auto positive = [](const char *name, int v) {
-    if (v <= 0) throw SceneError(fmt::format("SceneInfo: {} must be a positive integer, got {}", name, v));
-  };
-  positive("image_width", info.imageWidth);
-  positive("image_height", info.imageHeight);
-  positive("frames", info.frames);
-  positive("samples", info.samples);
-  double work = static_cast<double>(info.imageWidth) * info.imageHeight * info.samples * info.samples;
-  if (work > options.maxPixels)
-    throw SceneError(fmt::format(
-        "image {}x{} with {}x{} samples is {:.3g} samples, above the --max-pixels cap of {:.3g}; "
-        "raise --max-pixels if this is intended",
-        info.imageWidth, info.imageHeight, info.samples, info.samples, work, options.maxPixels));
+  validateSceneInfo(info, static_cast<uint64_t>(options.maxPixels), options.scenePath);
   if (options.lastFrame && *options.lastFrame >= info.frames)
     throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
                                  *options.firstFrame, *options.lastFrame, info.frames,

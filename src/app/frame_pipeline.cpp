@@ -2,6 +2,7 @@
 #include "app/frame_pipeline.h"
 
 #include "bindings/scene_script.h"
+#include "scene/scene_checks.h"
 #include "shading/image_cache.h"
 
 #include <chrono>
@@ -25,7 +26,7 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, Ba
   stats.sceneSeconds = secondsSince(t0);
   stats.entities = scene.entities.size();
   stats.lights = scene.lights.size();
-  stats.cameraAspect = scene.camera.aspect;
+  if (auto warning = aspectWarning(info, scene.camera)) stats.warnings.push_back(*warning);
 
   t0 = std::chrono::steady_clock::now();
   images.load(scene);

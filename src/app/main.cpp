@@ -1,1 +1,4 @@
-int main() { return 0; } // placeholder until the app lands
+// Pipeline: application entry point; everything is in lray_core (app/app.h).
+#include "app/app.h"
+
+int main(int argc, char **argv) { return lray::runLray(argc, argv); }

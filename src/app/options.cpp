@@ -4,7 +4,6 @@
 #include <CLI/CLI.hpp>
 
 #include <map>
-#include <regex>
 
 namespace lray {
 
@@ -75,21 +74,29 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   }
 
   if (!frames.empty()) {
-    std::smatch m;
-    static const std::regex range(R"(^\s*(\d+)\s*(?::\s*(\d+)\s*)?$)");
-    if (!std::regex_match(frames, m, range))
-      return {std::nullopt, 2, "--frames: expected A:B or A (0-based frame numbers), got '" +
-                                   frames + "'\nRun 'lray --help' for usage."};
-    try {
-      o.firstFrame = std::stoi(m[1]);
-      o.lastFrame = m[2].matched ? std::stoi(m[2]) : *o.firstFrame;
-    } catch (const std::exception &) {
-      return {std::nullopt, 2, "--frames: frame number out of range in '" + frames + "'"};
-    }
-    if (*o.lastFrame < *o.firstFrame)
-      return {std::nullopt, 2, "--frames: the last frame (" + std::to_string(*o.lastFrame) +
-                                   ") comes before the first (" + std::to_string(*o.firstFrame) +
-                                   ")"};
+    auto usage = [&](const std::string &why) {
+      return ParseResult{std::nullopt, 2, "--frames '" + frames + "': " + why +
+                                              "\nRun 'lray --help' for usage."};
+    };
+    // "A:B" or "A": non-negative integers, 0-based.
+    auto number = [](const std::string &text, int &out) {
+      if (text.empty() || text.size() > 9 ||
+          text.find_first_not_of("0123456789") != std::string::npos)
+        return false;
+      out = std::stoi(text);
+      return true;
+    };
+    size_t colon = frames.find(':');
+    int a = 0, b = 0;
+    if (!number(frames.substr(0, colon), a) ||
+        (colon != std::string::npos && !number(frames.substr(colon + 1), b)))
+      return usage("expected A:B or A (0-based frame numbers)");
+    if (colon == std::string::npos) b = a;
+    if (b < a)
+      return usage("the last frame (" + std::to_string(b) + ") comes before the first (" +
+                   std::to_string(a) + ")");
+    o.firstFrame = a;
+    o.lastFrame = b;
   }
   return {o, 0, ""};
 }

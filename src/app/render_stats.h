@@ -20,7 +20,7 @@ struct FrameStats {
   double writeSeconds = 0;
   AcceleratorStats accel;
   size_t entities = 0, lights = 0;
-  double cameraAspect = 0; ///< the scene camera's aspect (for the stretch warning)
+  std::vector<std::string> warnings; ///< e.g. the SPEC 4 camera-aspect warning
   RayCounts rays;
 };
 

@@ -1,1 +1,1 @@
-list(APPEND LRAY_CORE_SOURCES src/render/image_writer.cpp)
+list(APPEND LRAY_CORE_SOURCES src/render/image_writer.cpp src/render/renderer.cpp)

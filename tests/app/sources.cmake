@@ -1,1 +1,2 @@
 list(APPEND LRAY_TEST_SOURCES tests/app/options_test.cpp)
+list(APPEND LRAY_TEST_SOURCES tests/app/cli_test.cpp)

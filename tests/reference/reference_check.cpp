@@ -66,7 +66,7 @@ void writeIndex(const fs::path &dir) {
   std::ofstream html(dir / "index.html");
   html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>LRay reference failures</title>"
           "<style>body{font-family:sans-serif;background:#222;color:#eee} img{image-rendering:pixelated;"
-          "width:320px;border:1px solid #666} td{padding:4px;vertical-align:top} pre{color:#fc8}</style>"
+          "width:320px;border:1px solid #666} td{padding:4px;vertical-align:top} pre{color:#fc8;white-space:pre-wrap}</style>"
           "</head><body><h1>LRay reference-image failures</h1>\n";
   for (const fs::path &r : reports) {
     std::string stem = r.stem().string();

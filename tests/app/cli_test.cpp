@@ -131,23 +131,28 @@ TEST_F(LrayCli, OneFrameSceneIsNamedAfterTheScript) {
   EXPECT_TRUE(fs::exists(dir_ / "o" / "still.tga"));
 }
 
-TEST_F(LrayCli, SameBytesWithOneAndTwoThreads) {
+TEST_F(LrayCli, SameBytesWhateverTheThreadCountOnBothBackends) {
+  // 1, 2 and many (more threads than tiles in a row, more than cores) threads.
   fs::path scene = writeScene("det.lua", kSpheres);
-  Result one = runLray(scene.string() + " " + (dir_ / "t1").string() + " --quiet --threads 1 --frames 1");
-  Result two = runLray(scene.string() + " " + (dir_ / "t2").string() + " --quiet --threads 2 --frames 1");
-  ASSERT_EQ(one.status, 0) << one.output;
-  ASSERT_EQ(two.status, 0) << two.output;
-  std::string a = readFile(dir_ / "t1" / "det0001.png"), b = readFile(dir_ / "t2" / "det0001.png");
-  ASSERT_FALSE(a.empty());
-  EXPECT_EQ(a, b);
-  // And the picture is not trivially uniform: the spheres are there.
-  std::string black = readFile(dir_ / "t1" / "det0001.png");
-  Result blank = runLray(writeScene("blank.lua", "scene_info = SceneInfo() { image_width = 48, "
-                                                 "image_height = 36 }\nfunction scene(c) return "
-                                                 "Scene() end\n").string() +
-                         " " + (dir_ / "t3").string() + " --quiet");
-  ASSERT_EQ(blank.status, 0);
-  EXPECT_NE(readFile(dir_ / "t3" / "blank.png"), a);
+  for (const char *backend : {"embree", "kdtree"}) {
+    std::string first;
+    for (int threads : {1, 2, 8}) {
+      fs::path out = dir_ / (std::string(backend) + std::to_string(threads));
+      Result r = runLray(scene.string() + " " + out.string() + " --quiet --frames 1 --backend " +
+                         backend + " --threads " + std::to_string(threads));
+      ASSERT_EQ(r.status, 0) << r.output;
+      std::string bytes = readFile(out / "det0001.png");
+      ASSERT_FALSE(bytes.empty());
+      if (first.empty()) first = bytes;
+      EXPECT_EQ(bytes, first) << backend << " with " << threads << " threads";
+    }
+  }
+  // And the picture is not trivially uniform: it differs from an empty scene's.
+  fs::path blank = writeScene("blank.lua", "scene_info = SceneInfo() { image_width = 48, "
+                                           "image_height = 36 }\nfunction scene(c) return "
+                                           "Scene() end\n");
+  ASSERT_EQ(runLray(blank.string() + " " + (dir_ / "b").string() + " --quiet").status, 0);
+  EXPECT_NE(readFile(dir_ / "b" / "blank.png"), readFile(dir_ / "embree1" / "det0001.png"));
 }
 
 TEST_F(LrayCli, StatsJsonCountsRays) {

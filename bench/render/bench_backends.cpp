@@ -1,12 +1,13 @@
 // bench/backends: the two acceleration backends side by side.
 //  1. A scaling series of procedural scenes (spheres, and triangle meshes),
-//     10^2 .. 10^6 primitives: build time, memory, and rays/s for primary
+//     10^2 .. 10^6 primitives (triangles: bench/kdtree's bumpy sphere mesh): build time, memory, and rays/s for primary
 //     (coherent camera rays), shadow (occlusion towards a light) and secondary
 //     (incoherent: random directions from the primary hits) rays.
 //  2. The gallery (every scenes/*.lua, frame 0): render time per backend and
 //     the fraction of identical pixels.
 // Writes a Markdown table and a data file for the plot (see bench/backends).
 #include "accel/accelerator.h"
+#include "bench/kdtree/accelerator_bench.h"
 #include "app/frame_pipeline.h"
 #include "bindings/scene_script.h"
 #include "geometry/spawn.h"
@@ -52,46 +53,6 @@ Scene sphereScene(size_t n) {
   }
   s.camera.worldFromCamera = Transform::translate({0, 0, -2.2 * side});
   s.camera.fov = 40;
-  return s;
-}
-
-// One mesh of N triangles: a bumpy tessellated sphere (a closed, realistic surface).
-Scene triangleScene(size_t n) {
-  auto mesh = std::make_shared<MeshData>();
-  size_t rings = std::max<size_t>(2, static_cast<size_t>(std::sqrt(n / 2.0)));
-  size_t segs = std::max<size_t>(3, n / (2 * rings));
-  const double pi = 3.14159265358979323846;
-  for (size_t r = 0; r <= rings; ++r)
-    for (size_t sIdx = 0; sIdx <= segs; ++sIdx) {
-      double th = pi * r / rings, ph = 2 * pi * sIdx / segs;
-      double rad = 4 * (1 + 0.05 * std::sin(7 * th) * std::sin(9 * ph));
-      mesh->positions.push_back({static_cast<float>(rad * std::sin(th) * std::cos(ph)),
-                                 static_cast<float>(rad * std::cos(th)),
-                                 static_cast<float>(rad * std::sin(th) * std::sin(ph))});
-    }
-  auto idx = [&](size_t r, size_t s) { return static_cast<uint32_t>(r * (segs + 1) + s); };
-  for (size_t r = 0; r < rings; ++r)
-    for (size_t s = 0; s < segs; ++s) {
-      uint32_t a = idx(r, s), b = idx(r, s + 1), c = idx(r + 1, s), d = idx(r + 1, s + 1);
-      for (auto [p, q, w] : {std::array<uint32_t, 3>{a, c, b}, std::array<uint32_t, 3>{b, c, d}}) {
-        MeshTriangle t;
-        t.v[0] = p;
-        t.v[1] = q;
-        t.v[2] = w;
-        mesh->triangles.push_back(t);
-        mesh->triangleIndices.insert(mesh->triangleIndices.end(), {p, q, w});
-      }
-    }
-  mesh->normals.assign(mesh->positions.size(), Vec3f{0, 1, 0});
-  Scene s;
-  s.textures.push_back(Texture{});
-  s.pigments.push_back(Pigment{});
-  Entity e;
-  e.kind = ShapeKind::Mesh;
-  e.mesh = mesh;
-  s.entities.push_back(e);
-  s.camera.worldFromCamera = Transform::translate({0, 0, -12});
-  s.camera.fov = 50;
   return s;
 }
 
@@ -172,7 +133,7 @@ int main(int argc, char **argv) {
          "kd_shadow embree_secondary kd_secondary\n";
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
-      Scene scene = std::string(kind) == "spheres" ? sphereScene(n) : triangleScene(n);
+      Scene scene = std::string(kind) == "spheres" ? sphereScene(n) : bench::makeBumpySphereScene(n);
       RayFigures fig[2];
       for (int b = 0; b < 2; ++b) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;

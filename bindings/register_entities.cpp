@@ -5,6 +5,7 @@
 #include "scene/obj_loader.h"
 
 #include <cmath>
+#include <limits>
 
 namespace lray::lua {
 
@@ -39,6 +40,10 @@ void readNumbers(lua_State *L, int value, lua_Integer i, int n, const char *attr
     if (!std::isfinite(out[k]))
       badEntry(attribute, shape, i,
                "a table holding the non-finite number " + describeValue(L, -1));
+    // Mesh data is stored in single precision (shared with Embree).
+    if (std::fabs(out[k]) > std::numeric_limits<float>::max())
+      badEntry(attribute, shape, i,
+               "a table holding " + describeValue(L, -1) + ", out of range for single precision");
     lua_pop(L, 1);
   }
   lua_pop(L, 1);

@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -60,6 +61,9 @@ private:
     if (ec != std::errc() || ptr != token.data() + token.size())
       fail("expected a number, got '" + std::string(token) + "'");
     if (!std::isfinite(v)) fail("non-finite number '" + std::string(token) + "'");
+    // Mesh data is stored in single precision (shared with Embree).
+    if (std::fabs(v) > std::numeric_limits<float>::max())
+      fail("number '" + std::string(token) + "' is out of range for single precision");
     return v;
   }
 

@@ -98,6 +98,10 @@ TEST_F(BindingErrorTest, MalformedMeshDataNamesTheEntryOrFace) {
   EXPECT_EQ(runLua("Mesh().vertices = {{0, 0, 0}, {1, 0, math.huge}}"),
             "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a table "
             "holding the non-finite number inf");
+  // Finite as a double but not as the float the mesh is stored in.
+  EXPECT_EQ(runLua("Mesh().normals = {{0, 1e39, 0}}"),
+            "test.lua:1: Mesh: attribute 'normals' expects a list of {x, y, z}, entry 1 is a table "
+            "holding 1e+39, out of range for single precision");
   EXPECT_EQ(runLua("Mesh().uvs = {{0, 0}, 'a'}"),
             "test.lua:1: Mesh: attribute 'uvs' expects a list of {u, v}, entry 2 is string");
   EXPECT_EQ(runLua("Mesh().normals = 3"),

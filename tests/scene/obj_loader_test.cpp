@@ -92,6 +92,8 @@ TEST(ObjLoaderTest, MalformedLinesNameThePathAndLine) {
   EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1// 2 3\n"), "model.obj:4: malformed face corner '1//'");
   EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3a\n"), "model.obj:4: malformed vertex index '3a'");
   EXPECT_EQ(errorOf("vn 0 0 nan\n"), "model.obj:1: non-finite number 'nan'");
+  EXPECT_EQ(errorOf("v 0 5e43 0\n"),
+            "model.obj:1: number '5e43' is out of range for single precision");
   EXPECT_EQ(errorOf("curv 0 1 2\n"), "model.obj:1: unknown statement 'curv'");
 }
 

@@ -70,13 +70,13 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   } catch (const CLI::CallForVersion &) {
     return {std::nullopt, 0, std::string("lray ") + LRAY_VERSION + "\n"};
   } catch (const CLI::ParseError &e) {
-    return {std::nullopt, 2, std::string(e.what()) + "\nRun 'lray --help' for usage."};
+    return {std::nullopt, 2, "lray: error: " + std::string(e.what()) + " (run 'lray --help' for usage)"};
   }
 
   if (!frames.empty()) {
     auto usage = [&](const std::string &why) {
-      return ParseResult{std::nullopt, 2, "--frames '" + frames + "': " + why +
-                                              "\nRun 'lray --help' for usage."};
+      return ParseResult{std::nullopt, 2, "lray: error: --frames '" + frames + "': " + why +
+                                              " (run 'lray --help' for usage)"};
     };
     // "A:B" or "A": non-negative integers, 0-based.
     auto number = [](const std::string &text, int &out) {

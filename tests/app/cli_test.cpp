@@ -86,6 +86,7 @@ TEST_F(LrayCli, BadOptionIsAUsageError) {
   Result r = runLray(scene.string() + " " + (dir_ / "out").string() + " --bogus");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("--bogus"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   Result b = runLray(scene.string() + " " + (dir_ / "out").string() + " --backend optix");
   EXPECT_EQ(b.status, 2);
   EXPECT_NE(b.output.find("optix"), std::string::npos) << b.output;

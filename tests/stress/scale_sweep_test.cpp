@@ -1,0 +1,156 @@
+// Robustness suite (issue 8): the same small scene translated by up to 1e5
+// and scaled from 1e-4 to 1e4, through both backends. Measures false
+// self-shadowing on lit surfaces, checks that an occluder 1e-3 x scale away
+// still casts its shadow (the spawn offset does not jump over it), and that
+// images of the moved scene match the original.
+#include "geometry/spawn.h"
+#include "stress/stress_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+namespace lray::stress {
+namespace {
+
+struct SweepCase {
+  double offset;
+  double scale;
+  /// Largest allowed fraction of lit pixels whose shadow ray is blocked;
+  /// < 0: measured and printed only (beyond the issue's targets).
+  double selfShadowTarget;
+  /// Whether every shadow ray under a plate 1e-3 x scale above must be
+  /// blocked. Not at offsets >= 1e4: the floor is float triangles and a
+  /// 1e-3 gap is about one float ulp of coordinates at 1e4, which single
+  /// precision (Embree's rays, the stored vertices) cannot resolve.
+  bool occluderAsserted;
+};
+
+// Targets (issue 8): <= 1e-4 of lit pixels up to magnitude 1e3, <= 1e-3 at
+// 1e4; beyond that measured only.
+const SweepCase kCases[] = {
+    {0, 1, 1e-4, true},     {1e2, 1, 1e-4, true},   {1e3, 1, 1e-4, true},
+    {1e4, 1, 1e-3, false},  {1e5, 1, -1, false},    {0, 1e-4, 1e-4, true},
+    {0, 1e-3, 1e-4, true},  {0, 1e-2, 1e-4, true},  {0, 1e-1, 1e-4, true},
+    {0, 1e1, 1e-4, true},   {0, 1e2, 1e-4, true},   {0, 1e3, 1e-4, true},
+    {0, 1e4, 1e-3, true},
+};
+
+class StressScaleSweep : public ::testing::TestWithParam<BackendKind> {};
+
+TEST_P(StressScaleSweep, LitSurfacesDoNotShadowThemselves) {
+  const int width = 256, height = 192;
+  for (const SweepCase &c : kCases) {
+    StressScene st = makeStressScene(c.offset, c.scale);
+    auto accel = makeAccelerator(GetParam(), st.scene);
+    std::vector<Ray> rays = cameraRays(st.scene, width, height);
+    std::vector<Hit> hits;
+    std::vector<int> ids = hitEntities(*accel, rays, &hits);
+    size_t lit = 0, falseShadow = 0, nonFinite = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (ids[i] < 0) continue;
+      const Hit &h = hits[i];
+      if (!hitIsFinite(h)) {
+        ++nonFinite;
+        continue;
+      }
+      // Lit analytically: the surface faces the light (cosine well above
+      // zero) and the unit-frame segment to the light misses every other
+      // entity's box widened by 0.05 (all entities are convex, so a surface
+      // facing the light cannot shadow itself).
+      Vec3 n = dot(h.ng, rays[i].d) < 0 ? h.ng : -h.ng;
+      Vec3 toLight = st.lightWorld - h.p;
+      if (dot(n, toLight) <= 0.02 * length(toLight)) continue;
+      Vec3 pUnit = st.unitFromWorld.applyPoint(h.p);
+      bool blocked = false;
+      for (size_t e = 0; e < st.unitBounds.size() && !blocked; ++e) {
+        if (e == h.entity) continue;
+        Bounds3 b = st.unitBounds[e];
+        b.lo = b.lo - Vec3(0.05, 0.05, 0.05);
+        b.hi = b.hi + Vec3(0.05, 0.05, 0.05);
+        blocked = segmentHitsBox(pUnit, st.lightUnit, b);
+      }
+      if (blocked) continue;
+      ++lit;
+      if (accel->occluded(spawnRayTo(h, st.lightWorld))) ++falseShadow;
+    }
+    double fraction = lit ? static_cast<double>(falseShadow) / static_cast<double>(lit) : 0;
+    std::printf("[self-shadow] %-6s offset %-6g scale %-6g: %zu lit pixels, %zu falsely shadowed "
+                "(%.2e), target %s\n",
+                backendName(GetParam()).c_str(), c.offset, c.scale, lit, falseShadow, fraction,
+                c.selfShadowTarget < 0 ? "none" : std::to_string(c.selfShadowTarget).c_str());
+    EXPECT_EQ(nonFinite, 0u) << "offset " << c.offset << " scale " << c.scale;
+    EXPECT_GT(lit, rays.size() / 4) << "the sweep scene should be mostly lit";
+    if (c.selfShadowTarget >= 0) {
+      EXPECT_LE(fraction, c.selfShadowTarget) << "offset " << c.offset << " scale " << c.scale;
+    }
+  }
+}
+
+TEST_P(StressScaleSweep, OccluderAtOneThousandthOfScaleCastsShadow) {
+  for (const SweepCase &c : kCases) {
+    StressScene bare = makeStressScene(c.offset, c.scale, false);
+    StressScene plated = makeStressScene(c.offset, c.scale, true);
+    auto bareAccel = makeAccelerator(GetParam(), bare.scene);
+    auto platedAccel = makeAccelerator(GetParam(), plated.scene);
+    struct Probe {
+      const char *name;
+      double x, z, half;
+      uint32_t entity;
+    };
+    const Probe probes[] = {
+        {"cube plate over floor", Plates::kFloorCubeX, Plates::kFloorCubeZ, 0.35, StressScene::kFloor},
+        {"mesh plate over floor", Plates::kFloorMeshX, Plates::kFloorMeshZ, 0.35, StressScene::kFloor},
+        {"cube plate over sphere", Plates::kSphereX, Plates::kSphereZ, 0.03, StressScene::kSphere},
+    };
+    for (const Probe &p : probes) {
+      const int n = 20;
+      int leaks = 0, probed = 0;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          double x = p.x + p.half * (2.0 * i / (n - 1) - 1);
+          double z = p.z + p.half * (2.0 * j / (n - 1) - 1);
+          Vec3 from = bare.world.applyPoint({x, 5, z});
+          Vec3 to = bare.world.applyPoint({x, 0, z});
+          Hit h;
+          ASSERT_TRUE(bareAccel->intersect({from, to - from}, h)) << p.name;
+          ASSERT_EQ(h.entity, p.entity) << p.name;
+          ++probed;
+          if (!platedAccel->occluded(spawnRayTo(h, plated.lightWorld))) ++leaks;
+        }
+      std::printf("[occluder] %-6s offset %-6g scale %-6g %-22s: %d of %d shadow rays leak\n",
+                  backendName(GetParam()).c_str(), c.offset, c.scale, p.name, leaks, probed);
+      // Over the sphere (analytic, double precision) no leak at any offset.
+      if (c.occluderAsserted || p.entity == StressScene::kSphere) {
+        EXPECT_EQ(leaks, 0) << p.name << " offset " << c.offset << " scale " << c.scale;
+      }
+    }
+  }
+}
+
+TEST_P(StressScaleSweep, MovedSceneRendersTheSameImage) {
+  const int width = 96, height = 72;
+  // Tolerance: a pixel differs when a channel moves by more than 2/255;
+  // at most 1 % of pixels may (object silhouettes and shadow edges can
+  // shift by a fraction of a pixel through the rounding of the moved
+  // coordinates, most of all for Embree's single-precision triangles).
+  const double tol = 2.0 / 255, maxFraction = 0.01;
+  Film reference = renderChecked(makeStressScene(0, 1).scene, GetParam(), width, height);
+  for (const SweepCase &c : kCases) {
+    if (c.offset == 0 && c.scale == 1) continue;
+    Film film = renderChecked(makeStressScene(c.offset, c.scale).scene, GetParam(), width, height);
+    ImageDiff d = compareFilms(reference, film, tol);
+    std::printf("[image] %-6s offset %-6g scale %-6g: %.4f of pixels differ by > 2/255, mean "
+                "|diff| %.2e\n",
+                backendName(GetParam()).c_str(), c.offset, c.scale, d.fractionOver, d.meanAbs);
+    if (c.selfShadowTarget >= 0) {
+      EXPECT_LE(d.fractionOver, maxFraction) << "offset " << c.offset << " scale " << c.scale;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, StressScaleSweep, ::testing::ValuesIn(kBothBackends),
+                         backendParamName);
+
+} // namespace
+} // namespace lray::stress

@@ -18,8 +18,21 @@ bool intersectCone(const Ray &ray, bool open, ObjectHit &hit) {
   double c = o.x * o.x + o.z * o.z - k * k;
   double disc = differenceOfProducts(h, h, a, c);
   // A ray through the apex has a double root (disc = 0 exactly); keep it
-  // when rounding made the discriminant a few ulps negative.
-  if (disc < 0 && disc > -8 * 0x1p-53 * (h * h + std::fabs(a * c))) disc = 0;
+  // when rounding made the discriminant slightly negative. The bound is on
+  // the rounding of a, h and c themselves (c cancels: o.o ~ k^2 near the
+  // apex), not only on h^2 - a c: a steep ray through the apex measured
+  // -8.9e-16 relative to h^2 + |a c|, past a bound on the product alone.
+  double aAbs = d.x * d.x + d.z * d.z + d.y * d.y;
+  double hAbs = std::fabs(o.x * d.x) + std::fabs(o.z * d.z) + std::fabs(k * d.y);
+  double cAbs = o.x * o.x + o.z * o.z + k * k;
+  double discError = 8 * 0x1p-53 * (h * h + std::fabs(a * c) + 2 * std::fabs(h) * hAbs +
+                                    std::fabs(a) * cAbs + std::fabs(c) * aAbs);
+  if (disc < 0 && disc > -discError) disc = 0;
+  // Near a double root (through the apex) the root itself is off by the
+  // coefficients' error over |a|: allow that much in the y range below.
+  double rootError = disc <= discError && a != 0
+                         ? 32 * 0x1p-53 * std::fabs(d.y) * hAbs / std::fabs(a)
+                         : 0;
   if (disc >= 0) {
     double roots[2] = {std::nan(""), std::nan("")};
     if (a == 0) {
@@ -31,7 +44,17 @@ bool intersectCone(const Ray &ray, bool open, ObjectHit &hit) {
     for (double t : roots) {
       if (!inOpenRange(ray, t) || t >= best) continue;
       double y = o.y + t * d.y;
-      if (y < 0 || y > 1) continue;
+      // A ray through the apex has its double root there, which rounding
+      // can put tens of ulps past y = 1 (t and y both come from rounded
+      // coefficients); rejecting it let such rays through the apex into
+      // the cone. Accept within that error: coneSurface clamps the point
+      // onto the cone.
+      // Capped at sqrt(eps): a root further out is not a rounding artefact
+      // (and with |a| tiny the estimate above would admit the other nappe).
+      double yTolerance = std::min(
+          0x1p-26, 64 * 0x1p-53 * (1 + std::fabs(o.y) + std::fabs(t * d.y)) +
+                       rootError * (1 + std::fabs(t) * aAbs / std::max(hAbs, 1e-300)));
+      if (y < -yTolerance || y > 1 + yTolerance) continue;
       best = t;
       hit.t = t;
       hit.part = 0;

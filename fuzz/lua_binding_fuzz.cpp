@@ -1,0 +1,182 @@
+// Fuzz target (libFuzzer): the Lua binding surface (bindings/). The input
+// bytes are read as a tiny program that writes a Lua scene script: random
+// constructor calls, attribute assignments (dot and bulk), operators and
+// method calls with arguments of random types (numbers including NaN, Inf,
+// huge and denormal ones, strings, booleans, nil, tables, functions, other
+// objects), each statement under pcall so one error does not end the
+// script. The script then goes through SceneScript::fromString and
+// buildFrame. A SceneError is fine; a crash, a sanitizer report, another
+// exception or a scene holding a non-finite number is a bug.
+#include "bindings/scene_script.h"
+
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+namespace {
+
+const char *const kConstructors[] = {
+    "Vector", "Color", "Translate", "Scale", "Rotate", "LookAt", "Identity", "Sphere", "Cube",
+    "Cylinder", "Cone", "Mesh", "Light", "Texture", "Finish", "ColorPigment", "CheckerPigment2D",
+    "CheckerPigment3D", "MarblePigment3D", "WoodPigment3D", "ImagePigment2D", "TextureMap2D",
+    "UVMap", "SphericalMap", "CylindricalMap", "TextureMap3D", "LinearMap", "Perspective", "Scene",
+    "SceneInfo", "Floor", "grey", "mesh_from_obj", "tostring", "type", "getmetatable"};
+
+const char *const kAttributes[] = {
+    "x", "y", "z", "r", "g", "b", "color", "transform", "texture", "finish", "pigment", "rows",
+    "cols", "area", "vertices", "normals", "uvs", "indices", "smooth", "open", "ambient", "diffuse",
+    "specular", "exponent", "reflection", "refraction", "refraction_index", "absorption",
+    "image_width", "image_height", "frames", "samples", "start_clock", "end_clock", "camera",
+    "background_color", "fov", "aspect", "pigment1", "pigment2", "texture_map", "color1", "color2",
+    "frequency", "period", "power", "size", "scale_s", "scale_t", "translate_s", "translate_t",
+    "colour", "__index", "__gc", "add_entity"};
+
+const char *const kMethods[] = {"dot", "cross", "length", "normalized", "inverse", "copy",
+                                "add_entity", "add_entities", "add_light", "add_lights"};
+
+const char *const kNumbers[] = {"0", "1", "-1", "0.5", "2", "3", "100", "1e308", "-1e308", "0/0",
+                                "1/0", "-1/0", "2^53", "1e-320", "math.huge", "1e-9", "1e9",
+                                "-0.0", "math.pi", "2^31", "-(2^31)", "7.5"};
+
+const char *const kLiterals[] = {
+    "nil", "true", "false", "'s'", "''", "'missing.obj'", "{}", "{1, 2, 3}", "{0/0, 1, 2}",
+    "{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}", "{{1, 2, 3}}", "{{1, 2, 3}, {3, 2, 4}}",
+    "{{{1, 1, 1}, {2, 2, 2}, {3, 3, 3}}}", "{{0, 0}, {1, 0}, {0, 1}}", "{{1, nil, 1}}",
+    "{{0, 0, 1}}", "function() end", "x", "y", "z", "origin", "white", "black", "red",
+    "{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}", "{{1, 2, 3, 4}}", "{{-1, 2, 3}}", "{{1, 2, 99}}",
+    "{{1e30, 0, 0}, {0, 1e30, 0}, {0, 0, 1e30}}", "{{1.5, 2, 3}}"};
+
+class Writer {
+public:
+  explicit Writer(FuzzedDataProvider &in) : in_(in) {}
+
+  std::string variable() { return "v[" + std::to_string(in_.ConsumeIntegralInRange(1, 6)) + "]"; }
+
+  std::string expr(int depth) {
+    if (depth > 3 || in_.remaining_bytes() == 0) return leaf();
+    switch (in_.ConsumeIntegralInRange(0, 9)) {
+    case 0:
+    case 1:
+    case 2: { // constructor call with 0..4 arguments
+      std::string s = pick(kConstructors);
+      s += "(";
+      int n = in_.ConsumeIntegralInRange(0, 4);
+      for (int i = 0; i < n; ++i) s += (i ? ", " : "") + expr(depth + 1);
+      return s + ")";
+    }
+    case 3: { // binary operator
+      const char *ops[] = {" + ", " - ", " * ", " / ", " == ", " .. "};
+      return "(" + expr(depth + 1) + pick(ops) + expr(depth + 1) + ")";
+    }
+    case 4: return "(-" + expr(depth + 1) + ")";
+    case 5: { // method call
+      std::string s = "(" + expr(depth + 1) + "):" + pick(kMethods) + "(";
+      int n = in_.ConsumeIntegralInRange(0, 2);
+      for (int i = 0; i < n; ++i) s += (i ? ", " : "") + expr(depth + 1);
+      return s + ")";
+    }
+    case 6: return "(" + expr(depth + 1) + ")." + pick(kAttributes);
+    case 7: { // bulk call: obj { attr = value, ... }
+      std::string s = "(" + expr(depth + 1) + ") {";
+      int n = in_.ConsumeIntegralInRange(0, 3);
+      for (int i = 0; i < n; ++i) s += std::string(i ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
+      return s + " }";
+    }
+    case 8: return "{" + expr(depth + 1) + ", " + expr(depth + 1) + "}";
+    default: return leaf();
+    }
+  }
+
+  std::string leaf() {
+    switch (in_.ConsumeIntegralInRange(0, 3)) {
+    case 0: return pick(kNumbers);
+    case 1: return pick(kLiterals);
+    case 2: return variable();
+    default: return std::to_string(in_.ConsumeIntegralInRange(-3, 300));
+    }
+  }
+
+  std::string statement() {
+    switch (in_.ConsumeIntegralInRange(0, 7)) {
+    case 0:
+    case 1: return variable() + " = " + expr(0);
+    case 2: return variable() + "." + pick(kAttributes) + " = " + expr(0);
+    case 3: return "S:add_entity(" + expr(0) + ")";
+    case 4: return "S:add_light(" + expr(0) + ")";
+    case 5: return "S." + std::string(in_.ConsumeBool() ? "camera" : "background_color") + " = " + expr(0);
+    case 6: return "scene_info = " + expr(0);
+    default: return "S:add_entities({" + expr(0) + ", " + expr(0) + "})";
+    }
+  }
+
+private:
+  template <size_t N> const char *pick(const char *const (&list)[N]) {
+    return list[in_.ConsumeIntegralInRange<size_t>(0, N - 1)];
+  }
+  FuzzedDataProvider &in_;
+};
+
+bool finite(const lray::Vec3 &v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const lray::Color &c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+bool finite(const lray::Transform &t) {
+  for (const auto &row : t.matrix().m)
+    for (double x : row)
+      if (!std::isfinite(x)) return false;
+  for (const auto &row : t.inverseMatrix().m)
+    for (double x : row)
+      if (!std::isfinite(x)) return false;
+  return !t.singular();
+}
+
+void check(bool ok) {
+  if (!ok) std::abort();
+}
+
+/// Nothing non-finite may reach the scene model (it would become NaN pixels).
+void checkScene(const lray::Scene &s) {
+  check(finite(s.background));
+  check(finite(s.camera.worldFromCamera) && std::isfinite(s.camera.fov) && std::isfinite(s.camera.aspect));
+  for (const lray::Entity &e : s.entities) {
+    check(finite(e.worldFromObject));
+    if (e.kind == lray::ShapeKind::Mesh) {
+      check(e.mesh != nullptr);
+      for (const lray::Vec3f &p : e.mesh->positions)
+        check(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      for (uint32_t i : e.mesh->triangleIndices) check(i < e.mesh->positions.size());
+    }
+  }
+  for (const lray::Light &l : s.lights) check(finite(l.worldFromLight) && finite(l.color));
+  for (const lray::Texture &t : s.textures) {
+    const lray::Finish &f = t.finish;
+    check(finite(f.ambient) && std::isfinite(f.diffuse) && std::isfinite(f.specular) &&
+          std::isfinite(f.exponent) && std::isfinite(f.reflection) && std::isfinite(f.refraction) &&
+          std::isfinite(f.refractionIndex) && std::isfinite(f.absorption));
+    check(t.pigment < s.pigments.size());
+  }
+  for (const lray::Pigment &p : s.pigments) check(finite(p.color) && finite(p.frequency));
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  Writer w(in);
+  std::string source = "v = {}\nS = Scene()\n";
+  for (int i = 0; i < 24 && in.remaining_bytes() > 0; ++i)
+    source += "pcall(function() " + w.statement() + " end)\n";
+  source += "function scene(clock) return S end\n";
+  lray::ScriptOptions options;
+  options.timeoutSeconds = 2;
+  options.maxPixels = 4096;
+  try {
+    lray::SceneScript script = lray::SceneScript::fromString(source, "fuzz.lua", "/nonexistent", options);
+    lray::Scene scene = script.buildFrame(script.info().startClock);
+    checkScene(scene);
+  } catch (const lray::SceneError &) {
+    // A clear user error: fine.
+  }
+  return 0;
+}

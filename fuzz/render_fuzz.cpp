@@ -1,0 +1,140 @@
+// Fuzz target (libFuzzer): scene -> backend -> tiny render. The input bytes
+// describe a small scene (analytic shapes and meshes, including degenerate
+// triangles, under transforms from 1e-4 to 1e4 in scale and up to 1e5 in
+// offset, random finishes, point and area lights, a camera anywhere) that
+// is rendered at 8x8 with both backends. A crash, a sanitizer report or a
+// non-finite sample (RayCounts::nonFinite > 0) is a bug.
+#include "accel/accelerator.h"
+#include "render/renderer.h"
+#include "scene/mesh_builder.h"
+#include "shading/image_cache.h"
+
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+
+namespace {
+
+using lray::Transform;
+using lray::Vec3;
+
+double magnitude(FuzzedDataProvider &in) {
+  static const double kMagnitudes[] = {0, 1e-4, 1e-2, 0.5, 1, 2, 10, 1e2, 1e4, 1e5};
+  double m = kMagnitudes[in.ConsumeIntegralInRange<size_t>(0, 9)];
+  return in.ConsumeBool() ? -m : m;
+}
+
+Vec3 vec(FuzzedDataProvider &in, double range) {
+  return {in.ConsumeFloatingPointInRange(-range, range), in.ConsumeFloatingPointInRange(-range, range),
+          in.ConsumeFloatingPointInRange(-range, range)};
+}
+
+Transform transform(FuzzedDataProvider &in) {
+  Transform t;
+  int steps = in.ConsumeIntegralInRange(0, 3);
+  for (int i = 0; i < steps; ++i) {
+    Transform s;
+    switch (in.ConsumeIntegralInRange(0, 2)) {
+    case 0: s = Transform::translate({magnitude(in), magnitude(in), magnitude(in)}); break;
+    case 1: {
+      double sx = std::fabs(magnitude(in)), sy = std::fabs(magnitude(in)), sz = std::fabs(magnitude(in));
+      s = Transform::scale(sx > 0 ? sx : 1, sy > 0 ? sy : 1, sz > 0 ? sz : 1);
+      break;
+    }
+    default: s = Transform::rotate(vec(in, 1), in.ConsumeFloatingPointInRange(-360.0, 360.0)); break;
+    }
+    if (!s.singular()) t = s * t;
+  }
+  return t;
+}
+
+lray::MeshDataPtr mesh(FuzzedDataProvider &in) {
+  lray::MeshSource src;
+  int nv = in.ConsumeIntegralInRange(3, 8);
+  double range = std::fabs(magnitude(in)) + 1;
+  for (int i = 0; i < nv; ++i) {
+    Vec3 p = vec(in, range);
+    // Some vertices repeated exactly: zero-area and sliver triangles.
+    if (i > 0 && in.ConsumeIntegralInRange(0, 3) == 0) p = {src.positions[i - 1].x, src.positions[i - 1].y, src.positions[i - 1].z};
+    src.positions.push_back({float(p.x), float(p.y), float(p.z)});
+  }
+  if (in.ConsumeBool()) src.normals.push_back({0, 0, in.ConsumeBool() ? 1.f : 0.f});
+  int nf = in.ConsumeIntegralInRange(1, 6);
+  for (int f = 0; f < nf; ++f) {
+    int corners = in.ConsumeIntegralInRange(3, 4);
+    for (int c = 0; c < corners; ++c) {
+      lray::MeshCorner k;
+      k.v = in.ConsumeIntegralInRange(0, nv - 1);
+      if (!src.normals.empty() && in.ConsumeBool()) k.n = 0;
+      src.corners.push_back(k);
+    }
+    src.faceSizes.push_back(static_cast<uint32_t>(corners));
+  }
+  return lray::buildMeshData(src);
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  lray::Scene scene;
+  scene.pigments = {lray::Pigment{}};
+  int textures = in.ConsumeIntegralInRange(1, 3);
+  for (int i = 0; i < textures; ++i) {
+    lray::Texture t;
+    t.finish.diffuse = in.ConsumeFloatingPointInRange(-1.0, 2.0);
+    t.finish.specular = in.ConsumeFloatingPointInRange(-1.0, 2.0);
+    t.finish.exponent = in.ConsumeFloatingPointInRange(0.0, 1e4);
+    t.finish.reflection = in.ConsumeFloatingPointInRange(0.0, 1.0);
+    t.finish.refraction = in.ConsumeFloatingPointInRange(0.0, 1.0);
+    t.finish.refractionIndex = in.ConsumeFloatingPointInRange(0.0, 10.0);
+    t.finish.absorption = in.ConsumeFloatingPointInRange(-1.0, 10.0);
+    scene.textures.push_back(t);
+  }
+  int entities = in.ConsumeIntegralInRange(1, 6);
+  for (int i = 0; i < entities; ++i) {
+    lray::Entity e;
+    e.kind = static_cast<lray::ShapeKind>(in.ConsumeIntegralInRange(0, 4));
+    e.worldFromObject = transform(in);
+    e.open = in.ConsumeBool();
+    e.smooth = in.ConsumeBool();
+    e.texture = in.ConsumeIntegralInRange<uint32_t>(0, static_cast<uint32_t>(textures));
+    if (e.kind == lray::ShapeKind::Mesh) {
+      try {
+        e.mesh = mesh(in);
+      } catch (const lray::SceneError &) {
+        continue;
+      }
+    }
+    scene.entities.push_back(e);
+  }
+  int lights = in.ConsumeIntegralInRange(0, 2);
+  for (int i = 0; i < lights; ++i) {
+    lray::Light l;
+    l.area = in.ConsumeBool();
+    l.rows = in.ConsumeIntegralInRange(1, 3);
+    l.cols = in.ConsumeIntegralInRange(1, 3);
+    l.worldFromLight = transform(in);
+    scene.lights.push_back(l);
+  }
+  scene.camera.fov = in.ConsumeFloatingPointInRange(1.0, 179.0);
+  scene.camera.aspect = in.ConsumeFloatingPointInRange(0.1, 10.0);
+  Vec3 eye = vec(in, std::fabs(magnitude(in)) + 1), at = vec(in, 5);
+  Transform look = Transform::lookAt(eye, at, {0, 1, 0});
+  if (!look.singular()) scene.camera.worldFromCamera = look;
+
+  lray::ImageCache images(false);
+  lray::FrameSettings fs;
+  fs.width = 8;
+  fs.height = 8;
+  fs.samples = in.ConsumeIntegralInRange(1, 2);
+  for (lray::BackendKind kind : {lray::BackendKind::Embree, lray::BackendKind::KdTree}) {
+    auto accel = lray::makeAccelerator(kind, scene);
+    lray::RayCounts counts;
+    lray::Film film = lray::renderFrame(scene, *accel, images, fs, counts);
+    if (counts.nonFinite != 0) std::abort();
+  }
+  return 0;
+}

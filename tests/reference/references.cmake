@@ -11,19 +11,25 @@
 # - kd-tree against the same (Embree) reference: SPEC 8 asks for >= 99.99 %
 #   identical pixels; at 160x120 that is at most 1 pixel in 10^4, so
 #   failpercent 0.01 allows 1 pixel (a silhouette tie: the two backends
-#   round the ray differently), of any size (hardfail 1).
+#   round the ray differently), of any size (hardfail 1). A scene may pass
+#   its own kd-tree failpercent as a 7th argument, with the reason beside it
+#   in scenes.cmake; each such exception is a known gap against SPEC 8.
 add_executable(lray_refcheck tests/reference/reference_check.cpp)
 target_link_libraries(lray_refcheck PRIVATE lray_core CLI11::CLI11 PkgConfig::OIIO lray_warnings)
 
 set(LRAY_REFERENCE_REPORT ${CMAKE_BINARY_DIR}/reference-report)
 
-# lray_reference_test(NAME SCENE FRAME WIDTH HEIGHT SAMPLES)
+# lray_reference_test(NAME SCENE FRAME WIDTH HEIGHT SAMPLES [KDTREE_FAILPERCENT])
 function(lray_reference_test name scene frame width height samples)
+  set(kdtree_failpercent 0.01)
+  if(ARGC GREATER 6)
+    set(kdtree_failpercent ${ARGV6})
+  endif()
   foreach(backend embree kdtree)
     if(backend STREQUAL "embree")
       set(thresholds --fail 0.004 --failpercent 0 --hardfail 1)
     else()
-      set(thresholds --fail 0.004 --failpercent 0.01 --hardfail 1)
+      set(thresholds --fail 0.004 --failpercent ${kdtree_failpercent} --hardfail 1)
     endif()
     add_test(NAME reference.${name}.${backend}
              COMMAND lray_refcheck ${CMAKE_SOURCE_DIR}/${scene}

@@ -1,5 +1,5 @@
 // Robustness suite (issue 8): inputs found by the libFuzzer targets in
-// fuzz/ (bench/fuzz), kept as regression tests.
+// tests/fuzz/ (bench/fuzz), kept as regression tests.
 #include "scene/mesh_builder.h"
 #include "scene/obj_loader.h"
 #include "scene/scene_error.h"

@@ -3,6 +3,7 @@
 // brute-force closest-entity reference and image comparison.
 #pragma once
 
+#include "accel/accel_test_scenes.h"
 #include "accel/accelerator.h"
 #include "geometry/shape.h"
 #include "render/camera_rays.h"
@@ -31,33 +32,10 @@ inline std::string backendParamName(const ::testing::TestParamInfo<BackendKind> 
 
 inline Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
-inline std::shared_ptr<MeshData> makeMesh(std::vector<Vec3f> positions,
-                                          const std::vector<uint32_t> &indices) {
-  auto m = std::make_shared<MeshData>();
-  m->positions = std::move(positions);
-  m->triangleIndices = indices;
-  for (size_t i = 0; i + 2 < indices.size(); i += 3) {
-    MeshTriangle t;
-    for (int j = 0; j < 3; ++j) t.v[j] = indices[i + j];
-    m->triangles.push_back(t);
-  }
-  return m;
-}
-
-inline Entity shapeEntity(ShapeKind kind, const Transform &xf) {
-  Entity e;
-  e.kind = kind;
-  e.worldFromObject = xf;
-  return e;
-}
-
-inline Entity meshEntity(MeshDataPtr mesh, const Transform &xf) {
-  Entity e;
-  e.kind = ShapeKind::Mesh;
-  e.mesh = std::move(mesh);
-  e.worldFromObject = xf;
-  return e;
-}
+// Scene-building helpers shared with the backend tests.
+using lray::testing::makeMesh;
+using lray::testing::meshEntity;
+using lray::testing::shapeEntity;
 
 /// One default texture and a white pigment, as the scene layer provides.
 inline void addDefaultMaterials(Scene &s) {

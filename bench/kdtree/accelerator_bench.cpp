@@ -1,6 +1,8 @@
 // Benchmarks: see accelerator_bench.h.
 #include "bench/kdtree/accelerator_bench.h"
 
+#include "app/render_stats.h"
+
 #include "render/camera_rays.h"
 
 #include <tbb/blocked_range.h>
@@ -16,10 +18,6 @@
 namespace lray::bench {
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // CPU time of the process (all threads) and of the calling thread: robust
 // figures on a machine shared with other work.

@@ -13,7 +13,6 @@
 #include <tbb/info.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,10 +24,6 @@ namespace lray {
 namespace fs = std::filesystem;
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Creates the output folder and proves it is writable before any work is done.
 void prepareOutDir(const std::string &dir) {

@@ -10,12 +10,6 @@
 
 namespace lray {
 
-namespace {
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-} // namespace
-
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, BackendKind backend,
                        ImageCache &images, FrameStats &stats, const ProgressFn &progress) {
   stats.frame = frame;

@@ -4,6 +4,7 @@
 #include "accel/accelerator.h"
 #include "shading/ray_counts.h"
 
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,11 @@ struct RunStats {
 };
 
 std::string toJson(const RunStats &stats);
+
+/// Wall-clock seconds since `t0` (the unit of every time in these stats).
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 /// Peak resident set size of this process so far.
 size_t peakMemoryBytes();

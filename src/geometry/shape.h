@@ -30,8 +30,11 @@ Bounds3 meshObjectBounds(const MeshData &mesh);
 /// parameter t of the world ray, with barycentrics (b1, b2) of corners 1 and 2
 /// (corner 0 has 1 - b1 - b2): interpolated normals when smooth, uvs
 /// (given or the default per-triangle mapping), object and world points.
-/// Used by both backends after their triangle test.
+/// Used by both backends after their triangle test. `frameOrigin` is the
+/// scene's floatFrameOrigin (float_frame.h): pError covers the rounding of
+/// a single-precision backend working relative to it.
 void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
-                     double b1, double b2, const Ray &worldRay, Hit &hit);
+                     double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
+                     Hit &hit);
 
 } // namespace lray

@@ -15,6 +15,42 @@ namespace {
 
 Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
+/// Bound on how far the triangle and a ray leaving p can be misplaced by a
+/// backend that works in single precision relative to `frameOrigin`
+/// (float_frame.h): vertices rounded relative to it (an untransformed mesh)
+/// or rays moved into object space through the float instance transform
+/// Translate(-frameOrigin) * worldFromObject. With the frame at the world
+/// origin this is the plain float bound of hitPointError.
+double floatFrameError(const Transform &xf, const Vec3 &pObject, const Vec3 &p, double scale,
+                       const Vec3 &frameOrigin, const Vec3 &p0, const Vec3 &p1,
+                       const Vec3 &p2) {
+  const double k = kTriangleErrorFactor * kFloatRoundoff;
+  const Vec3 pRel = p - frameOrigin;
+  if (xf.isIdentity()) {
+    // The backend's vertices are float(v - origin), its ray origins
+    // float(o - origin).
+    double relScale =
+        std::max(maxAbsComponent(p0 - frameOrigin),
+                 std::max(maxAbsComponent(p1 - frameOrigin), maxAbsComponent(p2 - frameOrigin)));
+    return k * (relScale + 3 * maxAbsComponent(pRel));
+  }
+  // hitPointError's terms for Translate(-origin) * worldFromObject: the
+  // translation becomes t - origin, the inverse's becomes inverse(origin).
+  const auto &m = xf.matrix().m;
+  const auto &inv = xf.inverseMatrix().m;
+  double rowNorm = 0, invNorm = 0;
+  for (int i = 0; i < 3; ++i) {
+    rowNorm = std::max(rowNorm, std::fabs(m[i][0]) + std::fabs(m[i][1]) + std::fabs(m[i][2]));
+    invNorm = std::max(invNorm, std::fabs(inv[i][0]) + std::fabs(inv[i][1]) + std::fabs(inv[i][2]));
+  }
+  Vec3 t(m[0][3], m[1][3], m[2][3]);
+  double tM = maxAbsComponent(t - frameOrigin);
+  double tInv = maxAbsComponent(affinePoint(xf.inverseMatrix(), frameOrigin));
+  double pw = maxAbsComponent(pRel);
+  double eObject = k * (maxAbsComponent(pObject) + scale + invNorm * pw + tInv);
+  return eObject * rowNorm + k * (pw + tM);
+}
+
 } // namespace
 
 Bounds3 meshObjectBounds(const MeshData &mesh) {
@@ -24,7 +60,8 @@ Bounds3 meshObjectBounds(const MeshData &mesh) {
 }
 
 void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
-                     double b1, double b2, const Ray &worldRay, Hit &hit) {
+                     double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
+                     Hit &hit) {
   const MeshData &mesh = *entity.mesh;
   const MeshTriangle &tri = mesh.triangles[triangle];
   const Transform &xf = entity.worldFromObject;
@@ -92,8 +129,9 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   }
 
   double scale = std::max(maxAbsComponent(p0), std::max(maxAbsComponent(p1), maxAbsComponent(p2)));
-  hit.pError =
-      hitPointError(xf, hit.pObject, hit.p, scale, kFloatRoundoff, kTriangleErrorFactor);
+  hit.pError = std::max(floatFrameError(xf, hit.pObject, hit.p, scale, frameOrigin, p0, p1, p2),
+                        hitPointError(xf, hit.pObject, hit.p, scale, kDoubleRoundoff,
+                                      kAnalyticErrorFactor));
 }
 
 } // namespace lray

@@ -1,5 +1,6 @@
 // Tests for src/geometry/triangle_hit: the mesh hit record both backends
 // fill after their own triangle test (fillTriangleHit, meshObjectBounds).
+#include "geometry/float_frame.h"
 #include "geometry/shape.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,8 @@
 
 namespace lray {
 namespace {
+
+const Vec3 kWorldOrigin(0, 0, 0);
 
 std::shared_ptr<MeshData> oneTriangle() {
   auto m = std::make_shared<MeshData>();
@@ -33,7 +36,7 @@ TEST(FillTriangleHit, PointsNormalsAndDefaultUvsUnderATransform) {
   Entity e = meshEntity(oneTriangle(), xf);
   Ray ray{{0.5, 0.5, -10}, {0, 0, 1}};
   Hit h;
-  fillTriangleHit(e, 4, 0, 7.0, 0.25, 0.5, ray, h);
+  fillTriangleHit(e, 4, 0, 7.0, 0.25, 0.5, ray, kWorldOrigin, h);
   EXPECT_EQ(h.t, 7.0);
   EXPECT_EQ(h.entity, 4u);
   EXPECT_EQ(h.primitive, 0u);
@@ -52,9 +55,9 @@ TEST(FillTriangleHit, PointsNormalsAndDefaultUvsUnderATransform) {
 TEST(FillTriangleHit, ClampsBarycentricsOntoTheTriangle) {
   Entity e = meshEntity(oneTriangle(), Transform());
   Hit h;
-  fillTriangleHit(e, 0, 0, 1.0, 0.7, 0.4, {{0, 0, -1}, {0, 0, 1}}, h);
+  fillTriangleHit(e, 0, 0, 1.0, 0.7, 0.4, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_NEAR(h.pObject.x + h.pObject.y, 2, 1e-12); // on the hypotenuse
-  fillTriangleHit(e, 0, 0, 1.0, -1e-7, 0.5, {{0, 0, -1}, {0, 0, 1}}, h);
+  fillTriangleHit(e, 0, 0, 1.0, -1e-7, 0.5, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_EQ(h.pObject.x, 0);
 }
 
@@ -63,14 +66,14 @@ TEST(FillTriangleHit, SmoothNormalsByVertexIndexWithoutNormalIndices) {
   m->normals = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}; // per vertex, no MeshTriangle::n
   Entity smooth = meshEntity(m, Transform(), true);
   Hit h;
-  fillTriangleHit(smooth, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, h);
+  fillTriangleHit(smooth, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
   Vec3 expected = normalize(Vec3(0.5, 0.25, 0.25));
   EXPECT_NEAR(h.ns.x, expected.x, 1e-6);
   EXPECT_NEAR(h.ns.y, expected.y, 1e-6);
   EXPECT_NEAR(h.ns.z, expected.z, 1e-6);
   EXPECT_EQ(h.ng, Vec3(0, 0, 1));
   Entity flat = meshEntity(m, Transform(), false);
-  fillTriangleHit(flat, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, h);
+  fillTriangleHit(flat, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_EQ(h.ns, Vec3(0, 0, 1)); // smooth = false shades with the face normal
 }
 
@@ -80,9 +83,50 @@ TEST(FillTriangleHit, GivenUvsAreInterpolated) {
   for (int k = 0; k < 3; ++k) m->triangles[0].uv[k] = k;
   m->hasUvs = true;
   Hit h;
-  fillTriangleHit(meshEntity(m, Transform()), 0, 0, 1.0, 0.5, 0.5, {{0, 0, -1}, {0, 0, 1}}, h);
+  fillTriangleHit(meshEntity(m, Transform()), 0, 0, 1.0, 0.5, 0.5, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_DOUBLE_EQ(h.u, 0);
   EXPECT_DOUBLE_EQ(h.v, 0);
+}
+
+// The spawn offset (pError) covers single-precision rounding relative to the
+// float frame: a triangle baked at 1e5 seen from an eye next to it gets the
+// offset of a triangle at the origin, not the 1e5-sized one (which would
+// jump over an occluder 1e-3 above it).
+TEST(FillTriangleHit, ErrorBoundFollowsTheFloatFrame) {
+  auto m = std::make_shared<MeshData>();
+  m->positions = {{1e5f - 2, 1e5f, 1e5f - 2}, {1e5f + 2, 1e5f, 1e5f - 2}, {1e5f, 1e5f, 1e5f + 2}};
+  m->triangleIndices = {0, 1, 2};
+  MeshTriangle t;
+  t.v[0] = 0, t.v[1] = 1, t.v[2] = 2;
+  m->triangles.push_back(t);
+  Entity baked = meshEntity(m, Transform());
+  Ray down{{1e5, 1e5 + 5, 1e5}, {0, -1, 0}};
+  Hit world, framed;
+  fillTriangleHit(baked, 0, 0, 5.0, 0.25, 0.25, down, kWorldOrigin, world);
+  fillTriangleHit(baked, 0, 0, 5.0, 0.25, 0.25, down, Vec3(1e5, 1e5 + 4, 1e5 - 6), framed);
+  EXPECT_EQ(world.p, framed.p);
+  EXPECT_GT(world.pError, 1e-2);
+  EXPECT_LT(framed.pError, 1e-5);
+  EXPECT_GT(framed.pError, 1e-7); // still covers float rounding at magnitude ~6
+  // The same triangle as a transformed instance of an origin-centred mesh.
+  auto local = std::make_shared<MeshData>(*m);
+  for (Vec3f &p : local->positions) p = {p.x - 1e5f, p.y - 1e5f, p.z - 1e5f};
+  Entity instance = meshEntity(local, Transform::translate({1e5, 1e5, 1e5}));
+  Hit instWorld, instFramed;
+  fillTriangleHit(instance, 0, 0, 5.0, 0.25, 0.25, down, kWorldOrigin, instWorld);
+  fillTriangleHit(instance, 0, 0, 5.0, 0.25, 0.25, down, Vec3(1e5, 1e5 + 4, 1e5 - 6), instFramed);
+  EXPECT_GT(instWorld.pError, 1e-2);
+  EXPECT_LT(instFramed.pError, 1e-5);
+}
+
+TEST(FloatFrameOrigin, TheEyeRoundedToFloatOnlyFarFromTheOrigin) {
+  Scene scene;
+  scene.camera.worldFromCamera = Transform::translate({3, 500, -1000});
+  EXPECT_EQ(floatFrameOrigin(scene), Vec3(0, 0, 0));
+  scene.camera.worldFromCamera = Transform::translate({0.1, 1e5 + 0.3, 0}) * Transform::rotate({0, 1, 0}, 30);
+  Vec3 f = floatFrameOrigin(scene);
+  EXPECT_EQ(f, Vec3(double(0.1f), double(1e5f + 0.3f), 0));
+  EXPECT_EQ(f.y, double(static_cast<float>(f.y)));
 }
 
 TEST(MeshObjectBounds, CoversThePositions) {

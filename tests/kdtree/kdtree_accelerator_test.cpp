@@ -2,6 +2,7 @@
 // against a brute-force loop over the same shared shape code.
 #include "accel/kdtree/kdtree_accelerator.h"
 
+#include "geometry/float_frame.h"
 #include "geometry/shape.h"
 #include "kdtree/kdtree_test_util.h"
 
@@ -53,7 +54,7 @@ bool bruteForce(const Scene &scene, const Ray &ray, Hit &hit) {
                             kdtest::toVec3(m.positions[m.triangleIndices[3 * t + 1]]),
                             kdtest::toVec3(m.positions[m.triangleIndices[3 * t + 2]]), tMax, p)) {
         tMax = p.t;
-        fillTriangleHit(e, i, t, p.t, p.b1, p.b2, ray, hit);
+        fillTriangleHit(e, i, t, p.t, p.b1, p.b2, ray, floatFrameOrigin(scene), hit);
         found = true;
       }
     }

@@ -10,6 +10,7 @@
 #include "geometry/hit.h"
 #include "geometry/shape.h"
 #include "math/ray.h"
+#include "geometry/float_frame.h"
 #include "scene/scene.h"
 
 #include <algorithm>
@@ -78,7 +79,7 @@ private:
     }
     if (!ok) return false;
     if (shared_) {
-      fillTriangleHit(e, index, triangle, t, u, v, worldRay, hit);
+      fillTriangleHit(e, index, triangle, t, u, v, worldRay, floatFrameOrigin(scene_), hit);
       return true;
     }
     hit.t = t;

@@ -11,6 +11,7 @@
 // kd-tree does and the callback's Hit is the one returned (no recomputation).
 #include "accel/embree/embree_accelerator.h"
 
+#include "geometry/float_frame.h"
 #include "geometry/shape.h"
 
 #include <embree3/rtcore.h>
@@ -49,13 +50,15 @@ float roundUp(double x) {
   return static_cast<double>(f) < x ? std::nextafter(f, kInfinityF) : f;
 }
 
-/// Embree's single-precision view of a ray: the valid interval is rounded
-/// outwards so Embree's culling never drops what the double test accepts.
-void toEmbree(const Ray &r, float &ox, float &oy, float &oz, float &dx, float &dy,
-              float &dz, float &tnear, float &tfar) {
-  ox = static_cast<float>(r.o.x);
-  oy = static_cast<float>(r.o.y);
-  oz = static_cast<float>(r.o.z);
+/// Embree's single-precision view of a ray, its origin relative to the
+/// float frame's origin (float_frame.h; t is the same in both frames): the
+/// valid interval is rounded outwards so Embree's culling never drops what
+/// the double test accepts.
+void toEmbree(const Ray &r, const Vec3 &frame, float &ox, float &oy, float &oz, float &dx,
+              float &dy, float &dz, float &tnear, float &tfar) {
+  ox = static_cast<float>(r.o.x - frame.x);
+  oy = static_cast<float>(r.o.y - frame.y);
+  oz = static_cast<float>(r.o.z - frame.z);
   dx = static_cast<float>(r.d.x);
   dy = static_cast<float>(r.d.y);
   dz = static_cast<float>(r.d.z);
@@ -83,20 +86,22 @@ struct EmbreeCallbacks {
   }
 
   static void bounds(const RTCBoundsFunctionArguments *args) {
-    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
-    Bounds3 b = shapeWorldBounds(*shapes[args->primID].entity);
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    Bounds3 b = shapeWorldBounds(*self->shapeRefs_[args->primID].entity);
+    // In the float frame; the subtraction's rounding is covered by rounding outwards.
+    const Vec3 &f = self->frameOrigin_;
     RTCBounds *o = args->bounds_o;
-    o->lower_x = roundDown(b.lo.x);
-    o->lower_y = roundDown(b.lo.y);
-    o->lower_z = roundDown(b.lo.z);
-    o->upper_x = roundUp(b.hi.x);
-    o->upper_y = roundUp(b.hi.y);
-    o->upper_z = roundUp(b.hi.z);
+    o->lower_x = roundDown(b.lo.x - f.x);
+    o->lower_y = roundDown(b.lo.y - f.y);
+    o->lower_z = roundDown(b.lo.z - f.z);
+    o->upper_x = roundUp(b.hi.x - f.x);
+    o->upper_y = roundUp(b.hi.y - f.y);
+    o->upper_z = roundUp(b.hi.z - f.z);
   }
 
   static void intersect(const RTCIntersectFunctionNArguments *args) {
-    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
-    const EmbreeAccelerator::ShapeRef &shape = shapes[args->primID];
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &shape = self->shapeRefs_[args->primID];
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
@@ -126,8 +131,8 @@ struct EmbreeCallbacks {
   }
 
   static void occluded(const RTCOccludedFunctionNArguments *args) {
-    const auto *shapes = static_cast<const EmbreeAccelerator::ShapeRef *>(args->geometryUserPtr);
-    const EmbreeAccelerator::ShapeRef &shape = shapes[args->primID];
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &shape = self->shapeRefs_[args->primID];
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
@@ -147,12 +152,12 @@ namespace {
 /// shared triangle code; analytic hits were written by the callback).
 /// Geometry IDs: a mesh instance or directly attached mesh has its entity's
 /// index; the analytic user geometry has ID entities.size().
-bool finishHit(const Scene &scene, unsigned geomID, unsigned instID, unsigned primID, float tfar,
-               float u, float v, const Ray &ray, Hit &hit) {
+bool finishHit(const Scene &scene, const Vec3 &frame, unsigned geomID, unsigned instID,
+               unsigned primID, float tfar, float u, float v, const Ray &ray, Hit &hit) {
   if (geomID == RTC_INVALID_GEOMETRY_ID) return false;
   unsigned entity = instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID;
   if (entity < scene.entities.size())
-    fillTriangleHit(scene.entities[entity], entity, primID, tfar, u, v, ray, hit);
+    fillTriangleHit(scene.entities[entity], entity, primID, tfar, u, v, ray, frame, hit);
   return true;
 }
 
@@ -196,15 +201,34 @@ void EmbreeAccelerator::build() {
   root_ = newScene();
 
   const auto &entities = scene_.entities;
-  // Triangle geometry over the MeshData's own buffers.
+  frameOrigin_ = floatFrameOrigin(scene_);
+  const bool rebase = frameOrigin_ != Vec3(0, 0, 0);
+  // Triangle geometry over the MeshData's own buffers, or over a copy of
+  // them relative to the float frame (`inFrame`: an untransformed mesh of a
+  // scene far from the world origin).
   size_t ownedBytes = 0;
-  auto triangleGeometry = [&](const MeshData &mesh) {
+  std::unordered_map<const MeshData *, const Vec3f *> framed;
+  auto triangleGeometry = [&](const MeshData &mesh, bool inFrame) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads 16 bytes at each vertex: the buffer must extend 4 bytes
     // past the last Vec3f. Use the vector's spare capacity if it has some,
     // else copy once.
     const Vec3f *positions = mesh.positions.data();
-    if (mesh.positions.capacity() == mesh.positions.size()) {
+    if (inFrame) {
+      const Vec3f *&copy = framed[&mesh];
+      if (!copy) {
+        auto &buffer = paddedPositions_.emplace_back(mesh.positions.size() + 1);
+        const Vec3 &f = frameOrigin_;
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+          const Vec3f &p = mesh.positions[i];
+          buffer[i] = {static_cast<float>(p.x - f.x), static_cast<float>(p.y - f.y),
+                       static_cast<float>(p.z - f.z)};
+        }
+        ownedBytes += buffer.size() * sizeof(Vec3f);
+        copy = buffer.data();
+      }
+      positions = copy;
+    } else if (mesh.positions.capacity() == mesh.positions.size()) {
       auto &copy = paddedPositions_.emplace_back(mesh.positions.size() + 1);
       std::copy(mesh.positions.begin(), mesh.positions.end(), copy.begin());
       ownedBytes += copy.size() * sizeof(Vec3f);
@@ -234,9 +258,12 @@ void EmbreeAccelerator::build() {
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;
     const MeshData &mesh = *e.mesh;
-    if (uses[&mesh] == 1 && e.worldFromObject.isIdentity()) {
+    bool identity = e.worldFromObject.isIdentity();
+    if (identity && (uses[&mesh] == 1 || rebase)) {
       // Sole, untransformed user of its mesh: no instance level to cross.
-      RTCGeometry g = triangleGeometry(mesh);
+      // Far from the origin every untransformed user gets the framed copy
+      // (an instance would move rays by the frame's offset in float).
+      RTCGeometry g = triangleGeometry(mesh, rebase);
       rtcAttachGeometryByID(root_, g, id);
       rtcReleaseGeometry(g);
       continue;
@@ -245,17 +272,19 @@ void EmbreeAccelerator::build() {
     if (!ms) {
       ms = newScene();
       meshScenes_.push_back(ms);
-      RTCGeometry g = triangleGeometry(mesh);
+      RTCGeometry g = triangleGeometry(mesh, false);
       rtcAttachGeometryByID(ms, g, 0);
       rtcReleaseGeometry(g);
       rtcCommitScene(ms);
     }
     RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(inst, ms);
+    // Translate(-frame origin) * worldFromObject, composed in double.
     const auto &m = e.worldFromObject.matrix().m;
     float xfm[12];
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) xfm[4 * r + c] = static_cast<float>(m[r][c]);
+      for (int c = 0; c < 4; ++c)
+        xfm[4 * r + c] = static_cast<float>(c == 3 ? m[r][3] - frameOrigin_[r] : m[r][c]);
     rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
     rtcCommitGeometry(inst);
     rtcAttachGeometryByID(root_, inst, id);
@@ -266,7 +295,7 @@ void EmbreeAccelerator::build() {
   if (!shapeRefs_.empty()) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(shapeRefs_.size()));
-    rtcSetGeometryUserData(g, shapeRefs_.data());
+    rtcSetGeometryUserData(g, this);
     rtcSetGeometryBoundsFunction(g, &EmbreeCallbacks::bounds, nullptr);
     rtcSetGeometryIntersectFunction(g, &EmbreeCallbacks::intersect);
     rtcSetGeometryOccludedFunction(g, &EmbreeCallbacks::occluded);
@@ -288,7 +317,7 @@ void EmbreeAccelerator::build() {
 
 bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   RTCRayHit rh;
-  toEmbree(ray, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
+  toEmbree(ray, frameOrigin_, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
            rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
   rh.ray.time = 0;
   rh.ray.mask = 0xFFFFFFFFu;
@@ -303,13 +332,13 @@ bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   ctx.hits = &hit;
   ctx.bestT = &bestT;
   rtcIntersect1(root_, &ctx.base, &rh);
-  return finishHit(scene_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, rh.hit.u,
+  return finishHit(scene_, frameOrigin_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, rh.hit.u,
                    rh.hit.v, ray, hit);
 }
 
 bool EmbreeAccelerator::occluded(const Ray &ray) const {
   RTCRay r;
-  toEmbree(ray, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
+  toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
   r.time = 0;
   r.mask = 0xFFFFFFFFu;
   r.id = 0;
@@ -331,7 +360,7 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
     for (unsigned i = 0; i < 8; ++i) {
       valid[i] = i < lanes ? -1 : 0;
       const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+      toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
                rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
       rh.ray.time[i] = 0;
       rh.ray.mask[i] = 0xFFFFFFFFu;
@@ -367,7 +396,7 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       }
     }
     for (unsigned i = 0; i < lanes; ++i)
-      found[base + i] = finishHit(scene_, rh.hit.geomID[i], rh.hit.instID[0][i], rh.hit.primID[i],
+      found[base + i] = finishHit(scene_, frameOrigin_, rh.hit.geomID[i], rh.hit.instID[0][i], rh.hit.primID[i],
                                   rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i], rays[base + i],
                                   hits[base + i])
                             ? 1
@@ -383,7 +412,7 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     for (unsigned i = 0; i < 8; ++i) {
       valid[i] = i < lanes ? -1 : 0;
       const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i], r8.dir_z[i],
+      toEmbree(r, frameOrigin_, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i], r8.dir_z[i],
                r8.tnear[i], r8.tfar[i]);
       r8.time[i] = 0;
       r8.mask[i] = 0xFFFFFFFFu;

@@ -56,6 +56,8 @@ private:
   std::vector<RTCSceneTy *> meshScenes_;
   /// All analytic entities form one user geometry; primID indexes this.
   std::vector<ShapeRef> shapeRefs_;
+  /// Origin of the float frame Embree works in (geometry/float_frame.h).
+  Vec3 frameOrigin_;
   /// Padded copies of vertex buffers whose capacity leaves no room for
   /// Embree's 16-byte read of the last vertex.
   std::vector<std::vector<Vec3f>> paddedPositions_;

@@ -5,6 +5,7 @@
 
 #include "accel/kdtree/triangle_clip.h"
 #include "accel/kdtree/watertight_triangle.h"
+#include "geometry/float_frame.h"
 #include "geometry/shape.h"
 
 #include <tbb/parallel_for.h>
@@ -68,7 +69,8 @@ Bounds3 instanceWorldBounds(const MeshData &mesh, const Transform &worldFromObje
 
 } // namespace
 
-KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
+KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
+    : scene_(scene), frameOrigin_(floatFrameOrigin(scene)) {
   auto start = std::chrono::steady_clock::now();
 
   // One bottom-level tree per distinct MeshData (shared_ptr identity).
@@ -152,7 +154,7 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   if (!found) return false;
   if (bestIsTriangle) {
     fillTriangleHit(scene_.entities[best.entity], best.entity, best.triangle, tMax, best.b1,
-                    best.b2, ray, hit);
+                    best.b2, ray, frameOrigin_, hit);
   } else {
     hit = shapeHit;
   }

@@ -54,6 +54,9 @@ private:
   };
 
   const Scene &scene_;
+  /// The float frame of fillTriangleHit's error bound (same as Embree's, so
+  /// both backends spawn secondary rays from the same points).
+  Vec3 frameOrigin_;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
   KdTree top_;

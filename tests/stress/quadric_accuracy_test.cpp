@@ -188,36 +188,32 @@ TEST_P(StressQuadricAccuracy, FarNonUniformlyScaledQuadricsWithinEightUlps) {
         ++hits;
         double err = static_cast<double>(std::fabs(LD(h.t) - tRef) / tRef) / ulp;
         worst = std::max(worst, err);
-        // Steep: the ray meets the surface at more than ~6 degrees; grazing
-        // hits are ill-conditioned (the input's own rounding moves t by
-        // 1/cos times as much) and are reported, not asserted.
+        // Reported separately: hits steeper than ~6 and 60 degrees.
         double cosine = std::fabs(dot(h.ng, r.d));
         if (cosine > 0.1) worstSteep = std::max(worstSteep, err);
         if (cosine > 0.5) worstHalf = std::max(worstHalf, err);
         worstScaled = std::max(worstScaled, err * cosine);
       }
-      worstAll = std::max(worstAll, worstSteep);
+      worstAll = std::max(worstAll, worst);
       std::printf("[quadric] %-6s %-8s %-13s: %d hits, worst |t - t_ref| = %.2f ulp(t) "
                   "(%.2f at cos > 0.1, %.2f at cos > 0.5; max err*cos %.2f), %d hit/miss disagreements\n",
                   backendName(GetParam()).c_str(),
                   kind == ShapeKind::Sphere ? "sphere" : kind == ShapeKind::Cylinder ? "cylinder" : "cone",
                   pl.name, hits, worst, worstSteep, worstHalf, worstScaled, missMismatch);
-      // The target, 8 double ulps of t, holds for rays meeting the surface at
-      // cos > 0.5. Below that the error grows as 1/cos: it comes from the
-      // rounding of the stored inverse transform applied to a ray origin
-      // 1e4 away (about 1-2 ulps of the origin's coordinates), which moves
-      // the hit along a grazing ray by that much over cos. So the
-      // conditioned error |t - t_ref| * cos is held to the same 8 ulps for
-      // every hit, and the figure at cos > 0.1 is printed.
+      // The target, 8 double ulps of t, for every hit. Grazing hits are
+      // ill-conditioned (an ulp of the object-space ray moves t by 1/cos
+      // ulps); shape.cpp refines them in long double, without which this
+      // case reached 77,000 ulps near tangency. The steep-hit figures and
+      // the conditioned error |t - t_ref| * cos are printed alongside.
+      EXPECT_LE(worst, 8.0) << pl.name;
       EXPECT_LE(worstHalf, 8.0) << pl.name;
-      EXPECT_LE(worstScaled, 8.0) << pl.name;
       // Disagreements can only be edge grazes (surface points sampled on a
       // silhouette or a cap rim): a handful in 20000.
       EXPECT_LE(missMismatch, raysPerCase / 1000) << pl.name;
       EXPECT_GT(hits, raysPerCase / 2);
     }
   }
-  std::printf("[quadric] %s: worst error at cos > 0.1 over all cases %.2f ulp(t)\n",
+  std::printf("[quadric] %s: worst error over all cases %.2f ulp(t)\n",
               backendName(GetParam()).c_str(), worstAll);
 }
 

@@ -27,6 +27,7 @@ private:
   static constexpr size_t kMaxSmall = 512;
   static constexpr size_t kClasses = kMaxSmall / kGranule;
   static constexpr size_t kSlabBytes = 2 * 1024 * 1024;
+  static constexpr size_t kFirstSlabBytes = 128 * 1024;
 
   static size_t sizeClass(size_t size) { return (size + kGranule - 1) / kGranule - 1; }
   void *allocSmall(size_t cls);

@@ -67,8 +67,36 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   const Transform &xf = entity.worldFromObject;
   Vec3 p0 = toVec3(mesh.positions[tri.v[0]]), p1 = toVec3(mesh.positions[tri.v[1]]),
        p2 = toVec3(mesh.positions[tri.v[2]]);
-  // Single-precision tests can return barycentrics a hair outside the
-  // triangle; keep the point on it.
+  // The backends' tests differ in precision (Embree's float barycentrics
+  // are off by ~1e-7 of the triangle's size: on the 200-unit gallery floor
+  // a checker edge moved by 1e-5), so the barycentrics and t are solved
+  // again here in double, the same way for both: the backends then agree
+  // on every hit of the same triangle, and points are as accurate as double
+  // allows. Kept from the backend only when the double solve degenerates
+  // (a ray in the triangle's plane) or leaves the query's interval.
+  {
+    Ray r = worldRay;
+    if (!xf.isIdentity()) {
+      r.o = affinePoint(xf.inverseMatrix(), worldRay.o);
+      r.d = affineVector(xf.inverseMatrix(), worldRay.d);
+    }
+    Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    Vec3 pv = cross(r.d, e2);
+    double det = dot(e1, pv);
+    if (det != 0) {
+      double inv = 1 / det;
+      Vec3 tv = r.o - p0;
+      Vec3 qv = cross(tv, e1);
+      double u = dot(tv, pv) * inv, v = dot(r.d, qv) * inv, tt = dot(e2, qv) * inv;
+      if (std::isfinite(u) && std::isfinite(v) && tt > worldRay.tMin && tt < worldRay.tMax) {
+        b1 = u;
+        b2 = v;
+        t = tt;
+      }
+    }
+  }
+  // Barycentrics a hair outside the triangle (a hit on an edge): keep the
+  // point on it.
   b1 = std::clamp(b1, 0.0, 1.0);
   b2 = std::clamp(b2, 0.0, 1.0);
   if (b1 + b2 > 1) {

@@ -34,7 +34,9 @@ Entity meshEntity(MeshDataPtr mesh, const Transform &xf, bool smooth = false) {
 TEST(FillTriangleHit, PointsNormalsAndDefaultUvsUnderATransform) {
   Transform xf = Transform::translate({1, 2, 3}) * Transform::scale(1, 1, -2);
   Entity e = meshEntity(oneTriangle(), xf);
-  Ray ray{{0.5, 0.5, -10}, {0, 0, 1}};
+  // Through the point with barycentrics (0.25, 0.5): object (0.5, 1, 0),
+  // world (1.5, 3, 3).
+  Ray ray{{1.5, 3, -4}, {0, 0, 1}};
   Hit h;
   fillTriangleHit(e, 4, 0, 7.0, 0.25, 0.5, ray, kWorldOrigin, h);
   EXPECT_EQ(h.t, 7.0);
@@ -55,9 +57,9 @@ TEST(FillTriangleHit, PointsNormalsAndDefaultUvsUnderATransform) {
 TEST(FillTriangleHit, ClampsBarycentricsOntoTheTriangle) {
   Entity e = meshEntity(oneTriangle(), Transform());
   Hit h;
-  fillTriangleHit(e, 0, 0, 1.0, 0.7, 0.4, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
+  fillTriangleHit(e, 0, 0, 1.0, 0.7, 0.4, {{1.4, 0.8, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_NEAR(h.pObject.x + h.pObject.y, 2, 1e-12); // on the hypotenuse
-  fillTriangleHit(e, 0, 0, 1.0, -1e-7, 0.5, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
+  fillTriangleHit(e, 0, 0, 1.0, -1e-7, 0.5, {{-2e-7, 1, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_EQ(h.pObject.x, 0);
 }
 
@@ -66,14 +68,14 @@ TEST(FillTriangleHit, SmoothNormalsByVertexIndexWithoutNormalIndices) {
   m->normals = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}; // per vertex, no MeshTriangle::n
   Entity smooth = meshEntity(m, Transform(), true);
   Hit h;
-  fillTriangleHit(smooth, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
+  fillTriangleHit(smooth, 0, 0, 1.0, 0.5, 0.25, {{1, 0.5, -1}, {0, 0, 1}}, kWorldOrigin, h);
   Vec3 expected = normalize(Vec3(0.5, 0.25, 0.25));
   EXPECT_NEAR(h.ns.x, expected.x, 1e-6);
   EXPECT_NEAR(h.ns.y, expected.y, 1e-6);
   EXPECT_NEAR(h.ns.z, expected.z, 1e-6);
   EXPECT_EQ(h.ng, Vec3(0, 0, 1));
   Entity flat = meshEntity(m, Transform(), false);
-  fillTriangleHit(flat, 0, 0, 1.0, 0.5, 0.25, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
+  fillTriangleHit(flat, 0, 0, 1.0, 0.5, 0.25, {{1, 0.5, -1}, {0, 0, 1}}, kWorldOrigin, h);
   EXPECT_EQ(h.ns, Vec3(0, 0, 1)); // smooth = false shades with the face normal
 }
 
@@ -83,7 +85,8 @@ TEST(FillTriangleHit, GivenUvsAreInterpolated) {
   for (int k = 0; k < 3; ++k) m->triangles[0].uv[k] = k;
   m->hasUvs = true;
   Hit h;
-  fillTriangleHit(meshEntity(m, Transform()), 0, 0, 1.0, 0.5, 0.5, {{0, 0, -1}, {0, 0, 1}}, kWorldOrigin, h);
+  fillTriangleHit(meshEntity(m, Transform()), 0, 0, 1.0, 0.5, 0.5, {{1, 1, -1}, {0, 0, 1}},
+                  kWorldOrigin, h);
   EXPECT_DOUBLE_EQ(h.u, 0);
   EXPECT_DOUBLE_EQ(h.v, 0);
 }
@@ -127,6 +130,23 @@ TEST(FloatFrameOrigin, TheEyeRoundedToFloatOnlyFarFromTheOrigin) {
   Vec3 f = floatFrameOrigin(scene);
   EXPECT_EQ(f, Vec3(double(0.1f), double(1e5f + 0.3f), 0));
   EXPECT_EQ(f.y, double(static_cast<float>(f.y)));
+}
+
+// A backend's barycentrics and t (Embree's are float) are solved again in
+// double from the ray: the hit is the same whatever precision found it.
+TEST(FillTriangleHit, BarycentricsAreSolvedAgainInDouble) {
+  Entity e = meshEntity(oneTriangle(), Transform::rotate({1, 1, 0}, 20));
+  Vec3 target = e.worldFromObject.applyPoint({0.3, 0.7, 0});
+  Ray ray{{0.1, -0.2, -3}, target - Vec3(0.1, -0.2, -3)};
+  Hit exact, rounded;
+  fillTriangleHit(e, 0, 0, 1.0, 0.15, 0.35, ray, kWorldOrigin, exact);
+  fillTriangleHit(e, 0, 0, 1.0 + 3e-7, 0.15 + 2e-7, 0.35 - 1e-7, ray, kWorldOrigin, rounded);
+  EXPECT_EQ(exact.t, rounded.t);
+  EXPECT_EQ(exact.p, rounded.p);
+  EXPECT_EQ(exact.u, rounded.u);
+  EXPECT_NEAR(exact.t, 1.0, 1e-15);
+  EXPECT_NEAR(exact.u, 0.15, 1e-15);
+  EXPECT_NEAR(exact.v, 0.35, 1e-15);
 }
 
 TEST(MeshObjectBounds, CoversThePositions) {

@@ -15,9 +15,15 @@ foreach(line IN LISTS lines)
   # Suite lines start in column 0 and end with '.', maybe followed by a comment.
   if(line MATCHES "^([^ #][^ ]*)\\.( *#.*)?$")
     set(suite "${CMAKE_MATCH_1}")
+    # The robustness suite (tests/stress, suites named Stress*, possibly
+    # behind a parameter prefix such as Backends/) has its own label.
+    set(label ${LABEL})
+    if(suite MATCHES "(^|/)Stress")
+      set(label stress)
+    endif()
     string(APPEND content
       "add_test([=[${suite}]=] [==[${TEST_EXECUTABLE}]==] [==[--gtest_filter=${suite}.*]==])\n"
-      "set_tests_properties([=[${suite}]=] PROPERTIES LABELS ${LABEL} TIMEOUT 600)\n")
+      "set_tests_properties([=[${suite}]=] PROPERTIES LABELS ${label} TIMEOUT 600)\n")
   endif()
 endforeach()
 file(WRITE "${CTEST_FILE}" "${content}")

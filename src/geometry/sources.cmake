@@ -4,4 +4,5 @@ list(APPEND LRAY_CORE_SOURCES
   src/geometry/cone.cpp
   src/geometry/cube.cpp
   src/geometry/shape.cpp
-  src/geometry/triangle_hit.cpp)
+  src/geometry/triangle_hit.cpp
+  src/geometry/float_frame.cpp)

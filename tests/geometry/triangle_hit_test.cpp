@@ -127,9 +127,32 @@ TEST(FloatFrameOrigin, TheEyeRoundedToFloatOnlyFarFromTheOrigin) {
   scene.camera.worldFromCamera = Transform::translate({3, 500, -1000});
   EXPECT_EQ(floatFrameOrigin(scene), Vec3(0, 0, 0));
   scene.camera.worldFromCamera = Transform::translate({0.1, 1e5 + 0.3, 0}) * Transform::rotate({0, 1, 0}, 30);
-  Vec3 f = floatFrameOrigin(scene);
+  Vec3 f = floatFrameOrigin(scene); // no entities: the eye
   EXPECT_EQ(f, Vec3(double(0.1f), double(1e5f + 0.3f), 0));
   EXPECT_EQ(f.y, double(static_cast<float>(f.y)));
+}
+
+TEST(FloatFrameOrigin, TheSceneBoxPointNearestTheEye) {
+  Entity sphere;
+  sphere.kind = ShapeKind::Sphere;
+  Scene scene;
+  scene.entities.push_back(sphere);
+  // A telephoto view of a unit sphere at the origin from 5000 away: the
+  // geometry is near the origin, so the frame stays there.
+  scene.camera.worldFromCamera = Transform::translate({0, 0, -5000});
+  EXPECT_EQ(floatFrameOrigin(scene), Vec3(0, 0, 0));
+  // The same view of the sphere moved to 1e5: the frame is on the sphere's
+  // box, next to the geometry, not at the eye 5000 away.
+  scene.entities[0].worldFromObject = Transform::translate({1e5, 1e5, 1e5});
+  scene.camera.worldFromCamera = Transform::translate({1e5, 1e5, 1e5 - 5000});
+  Vec3 f = floatFrameOrigin(scene);
+  EXPECT_NEAR(f.x, 1e5, 0.01);
+  EXPECT_NEAR(f.y, 1e5, 0.01);
+  EXPECT_NEAR(f.z, 1e5 - 1, 0.01);
+  // An eye inside the scene's box (a camera in a large scene): the eye.
+  scene.entities[0].worldFromObject = Transform::translate({1e5, 1e5, 1e5}) * Transform::scale(100, 100, 100);
+  scene.camera.worldFromCamera = Transform::translate({1e5 + 3, 1e5 + 4, 1e5 - 5});
+  EXPECT_EQ(floatFrameOrigin(scene), Vec3(1e5 + 3, 1e5 + 4, 1e5 - 5));
 }
 
 // A backend's barycentrics and t (Embree's are float) are solved again in

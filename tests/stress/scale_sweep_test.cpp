@@ -125,17 +125,17 @@ TEST_P(StressScaleSweep, OccluderAtOneThousandthOfScaleCastsShadow) {
 
 TEST_P(StressScaleSweep, MovedSceneRendersTheSameImage) {
   const int width = 96, height = 72;
-  // Tolerance: a pixel differs when a channel moves by more than 2/255;
-  // at most 1 % of pixels may (object silhouettes and shadow edges can
-  // shift by a fraction of a pixel through the rounding of the moved
-  // coordinates, most of all for Embree's single-precision triangles).
-  const double tol = 2.0 / 255, maxFraction = 0.01;
+  // Tolerance: a pixel differs when a channel moves by more than 1/255; at
+  // most 0.1 % of pixels (7 of 6912) may. Measured: no pixel differs at
+  // all (mean |diff| 0), on both backends: hits are filled in double, and
+  // far from the origin Embree works in a float frame next to the scene.
+  const double tol = 1.0 / 255, maxFraction = 0.001;
   Film reference = renderChecked(makeStressScene(0, 1).scene, GetParam(), width, height);
   for (const SweepCase &c : kCases) {
     if (c.offset == 0 && c.scale == 1) continue;
     Film film = renderChecked(makeStressScene(c.offset, c.scale).scene, GetParam(), width, height);
     ImageDiff d = compareFilms(reference, film, tol);
-    std::printf("[image] %-6s offset %-6g scale %-6g: %.4f of pixels differ by > 2/255, mean "
+    std::printf("[image] %-6s offset %-6g scale %-6g: %.4f of pixels differ by > 1/255, mean "
                 "|diff| %.2e\n",
                 backendName(GetParam()).c_str(), c.offset, c.scale, d.fractionOver, d.meanAbs);
     if (c.selfShadowTarget >= 0) {

@@ -69,6 +69,7 @@ std::shared_ptr<MeshData> makeTerrain(int n) {
         m->triangleIndices.insert(m->triangleIndices.end(), {p, q, r});
       }
     }
+  m->updateVertexNormalBase(); // as the scene layer's buildMeshData does
   return m;
 }
 

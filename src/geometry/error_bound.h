@@ -52,26 +52,24 @@ inline double maxAbsComponent(const Vec3 &v) {
 /// The rule above. `pObject` and `pWorld` are the hit point in both spaces;
 /// `shapeScale` the object-space size of the primitive (1 for the unit
 /// analytic shapes, the largest vertex coordinate for a triangle).
+/// The rule from the magnitudes: `objectMagnitude` = |pObject|,
+/// `worldMagnitude` = |pWorld| (largest absolute components).
+inline double hitPointErrorFromMagnitudes(const Transform &worldFromObject,
+                                          double objectMagnitude, double worldMagnitude,
+                                          double shapeScale, double eps, double k) {
+  // The norms are the transform's cached ones (math/transform.h).
+  double eObject = k * eps *
+                   (objectMagnitude + shapeScale +
+                    worldFromObject.inverseLinearNorm() * worldMagnitude +
+                    worldFromObject.inverseTranslationNorm());
+  return eObject * worldFromObject.linearNorm() +
+         k * eps * (worldMagnitude + worldFromObject.translationNorm());
+}
+
 inline double hitPointError(const Transform &worldFromObject, const Vec3 &pObject,
                             const Vec3 &pWorld, double shapeScale, double eps, double k) {
-  const auto &m = worldFromObject.matrix().m;
-  const auto &inv = worldFromObject.inverseMatrix().m;
-  // rowNorm, invNorm: the infinity norms of M and M^-1 (largest row sums).
-  double rowNorm = 0, invNorm = 0, tM = 0, tInv = 0;
-  for (int i = 0; i < 3; ++i) {
-    double row = 0, invRow = 0;
-    for (int j = 0; j < 3; ++j) {
-      row += std::fabs(m[i][j]);
-      invRow += std::fabs(inv[i][j]);
-    }
-    rowNorm = std::max(rowNorm, row);
-    invNorm = std::max(invNorm, invRow);
-    tM = std::max(tM, std::fabs(m[i][3]));
-    tInv = std::max(tInv, std::fabs(inv[i][3]));
-  }
-  double pw = maxAbsComponent(pWorld);
-  double eObject = k * eps * (maxAbsComponent(pObject) + shapeScale + invNorm * pw + tInv);
-  return eObject * rowNorm + k * eps * (pw + tM);
+  return hitPointErrorFromMagnitudes(worldFromObject, maxAbsComponent(pObject),
+                                     maxAbsComponent(pWorld), shapeScale, eps, k);
 }
 
 } // namespace lray

@@ -37,12 +37,7 @@ double floatFrameError(const Transform &xf, const Vec3 &pObject, const Vec3 &p, 
   // hitPointError's terms for Translate(-origin) * worldFromObject: the
   // translation becomes t - origin, the inverse's becomes inverse(origin).
   const auto &m = xf.matrix().m;
-  const auto &inv = xf.inverseMatrix().m;
-  double rowNorm = 0, invNorm = 0;
-  for (int i = 0; i < 3; ++i) {
-    rowNorm = std::max(rowNorm, std::fabs(m[i][0]) + std::fabs(m[i][1]) + std::fabs(m[i][2]));
-    invNorm = std::max(invNorm, std::fabs(inv[i][0]) + std::fabs(inv[i][1]) + std::fabs(inv[i][2]));
-  }
+  const double rowNorm = xf.linearNorm(), invNorm = xf.inverseLinearNorm();
   Vec3 t(m[0][3], m[1][3], m[2][3]);
   double tM = maxAbsComponent(t - frameOrigin);
   double tInv = maxAbsComponent(affinePoint(xf.inverseMatrix(), frameOrigin));
@@ -63,10 +58,32 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
                      double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
                      Hit &hit) {
   const MeshData &mesh = *entity.mesh;
-  const MeshTriangle &tri = mesh.triangles[triangle];
+  // Corner indices. A hit is usually a cache miss on these: read the
+  // 12-byte triangleIndices entry when the corners carry nothing more
+  // (vertex-indexed normals, no uvs), else the 36-byte MeshTriangle.
+  uint32_t v[3];
+  int32_t n[3];
+  const int32_t *uv = nullptr;
+  if (mesh.vertexNormalBase >= 0) {
+    const uint32_t *corners = &mesh.triangleIndices[3 * size_t(triangle)];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = corners[k];
+      n[k] = static_cast<int32_t>(v[k]) + mesh.vertexNormalBase;
+    }
+  } else {
+    const MeshTriangle &tri = mesh.triangles[triangle];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = tri.v[k];
+      n[k] = tri.n[k];
+    }
+    uv = tri.uv;
+  }
   const Transform &xf = entity.worldFromObject;
-  Vec3 p0 = toVec3(mesh.positions[tri.v[0]]), p1 = toVec3(mesh.positions[tri.v[1]]),
-       p2 = toVec3(mesh.positions[tri.v[2]]);
+  // Most meshes are placed by their vertices: skip the products (an
+  // identity product gives the same values).
+  const bool identity = xf.isIdentity();
+  Vec3 p0 = toVec3(mesh.positions[v[0]]), p1 = toVec3(mesh.positions[v[1]]),
+       p2 = toVec3(mesh.positions[v[2]]);
   // The backends' tests differ in precision (Embree's float barycentrics
   // are off by ~1e-7 of the triangle's size: on the 200-unit gallery floor
   // a checker edge moved by 1e-5), so the barycentrics and t are solved
@@ -75,22 +92,22 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   // allows. Kept from the backend only when the double solve degenerates
   // (a ray in the triangle's plane) or leaves the query's interval.
   {
-    Ray r = worldRay;
-    if (!xf.isIdentity()) {
-      r.o = affinePoint(xf.inverseMatrix(), worldRay.o);
-      r.d = affineVector(xf.inverseMatrix(), worldRay.d);
+    Vec3 o = worldRay.o, d = worldRay.d;
+    if (!identity) {
+      o = affinePoint(xf.inverseMatrix(), worldRay.o);
+      d = affineVector(xf.inverseMatrix(), worldRay.d);
     }
     Vec3 e1 = p1 - p0, e2 = p2 - p0;
-    Vec3 pv = cross(r.d, e2);
+    Vec3 pv = cross(d, e2);
     double det = dot(e1, pv);
     if (det != 0) {
       double inv = 1 / det;
-      Vec3 tv = r.o - p0;
+      Vec3 tv = o - p0;
       Vec3 qv = cross(tv, e1);
-      double u = dot(tv, pv) * inv, v = dot(r.d, qv) * inv, tt = dot(e2, qv) * inv;
-      if (std::isfinite(u) && std::isfinite(v) && tt > worldRay.tMin && tt < worldRay.tMax) {
+      double u = dot(tv, pv) * inv, w = dot(d, qv) * inv, tt = dot(e2, qv) * inv;
+      if (std::isfinite(u) && std::isfinite(w) && tt > worldRay.tMin && tt < worldRay.tMax) {
         b1 = u;
-        b2 = v;
+        b2 = w;
         t = tt;
       }
     }
@@ -106,48 +123,56 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   }
   double b0 = 1 - b1 - b2;
 
-  hit.t = t;
-  hit.entity = entityIndex;
-  hit.primitive = triangle;
-  hit.pObject = p0 * b0 + p1 * b1 + p2 * b2;
-  hit.p = affinePoint(xf.matrix(), hit.pObject);
+  // Everything is computed in locals and stored once at the end: stores
+  // into `hit` in between would make the compiler reload through it.
+  Vec3 pObject = p0 * b0 + p1 * b1 + p2 * b2;
+  Vec3 p = identity ? pObject : affinePoint(xf.matrix(), pObject);
 
   // Face normal by the right-hand rule on the corner order (the scene
   // layer's computed vertex normals use the same convention).
   const Mat4 &inv = xf.inverseMatrix();
-  Vec3 ng = affineNormal(inv, cross(p1 - p0, p2 - p0));
-  double ngLen = length(ng);
-  ng = ngLen > 0 ? ng * (1 / ngLen) : unitVector(-worldRay.d);
+  Vec3 ng = cross(p1 - p0, p2 - p0);
+  if (!identity) ng = affineNormal(inv, ng);
 
   // Vertex normals: by normal index, else per vertex index, else none.
-  Vec3 nInterp;
-  bool haveNormals = false;
-  if (tri.n[0] >= 0 && tri.n[1] >= 0 && tri.n[2] >= 0) {
-    nInterp = toVec3(mesh.normals[tri.n[0]]) * b0 + toVec3(mesh.normals[tri.n[1]]) * b1 +
-              toVec3(mesh.normals[tri.n[2]]) * b2;
-    haveNormals = true;
+  const Vec3f *n0 = nullptr, *n1 = nullptr, *n2 = nullptr;
+  if (n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
+    n0 = &mesh.normals[n[0]], n1 = &mesh.normals[n[1]], n2 = &mesh.normals[n[2]];
   } else if (mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty()) {
-    nInterp = toVec3(mesh.normals[tri.v[0]]) * b0 + toVec3(mesh.normals[tri.v[1]]) * b1 +
-              toVec3(mesh.normals[tri.v[2]]) * b2;
-    haveNormals = true;
+    n0 = &mesh.normals[v[0]], n1 = &mesh.normals[v[1]], n2 = &mesh.normals[v[2]];
+  }
+  Vec3 nw;
+  double nwLen2 = 0;
+  if (n0) {
+    nw = toVec3(*n0) * b0 + toVec3(*n1) * b1 + toVec3(*n2) * b2;
+    if (!identity) nw = affineNormal(inv, nw);
+    nwLen2 = dot(nw, nw);
+  }
+  bool haveNormal = nwLen2 > 0 && std::isfinite(nwLen2);
+  // The mesh's normals say which side is outside; the face normal follows
+  // them so that ng and ns are on the same side (the sign needs no
+  // normalisation, so it does not wait for the square roots).
+  bool flip = haveNormal && dot(nw, ng) < 0;
+
+  double ngLen = length(ng);
+  if (ngLen > 0) {
+    ng *= (flip ? -1 : 1) / ngLen;
+  } else {
+    ng = unitVector(-worldRay.d);
+    if (haveNormal && dot(nw, ng) < 0) ng = -ng;
   }
   Vec3 ns = ng;
-  if (haveNormals) {
-    Vec3 n = affineNormal(inv, nInterp);
-    double nLen = length(n);
-    if (nLen > 0 && std::isfinite(nLen)) {
-      n = n * (1 / nLen);
-      // The mesh's normals say which side is outside; the face normal
-      // follows them so that ng and ns are on the same side.
-      if (dot(n, ng) < 0) ng = -ng;
-      if (entity.smooth) ns = n;
-    }
-  }
-  hit.ng = ng;
-  hit.ns = entity.smooth ? ns : ng;
+  if (haveNormal && entity.smooth) ns = nw * (1 / std::sqrt(nwLen2));
 
-  if (tri.uv[0] >= 0 && tri.uv[1] >= 0 && tri.uv[2] >= 0) {
-    const Vec2f &t0 = mesh.uvs[tri.uv[0]], &t1 = mesh.uvs[tri.uv[1]], &t2 = mesh.uvs[tri.uv[2]];
+  hit.t = t;
+  hit.entity = entityIndex;
+  hit.primitive = triangle;
+  hit.pObject = pObject;
+  hit.p = p;
+  hit.ng = ng;
+  hit.ns = ns;
+  if (uv && uv[0] >= 0 && uv[1] >= 0 && uv[2] >= 0) {
+    const Vec2f &t0 = mesh.uvs[uv[0]], &t1 = mesh.uvs[uv[1]], &t2 = mesh.uvs[uv[2]];
     hit.u = b0 * t0.u + b1 * t1.u + b2 * t2.u;
     hit.v = b0 * t0.v + b1 * t1.v + b2 * t2.v;
   } else {
@@ -157,9 +182,17 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   }
 
   double scale = std::max(maxAbsComponent(p0), std::max(maxAbsComponent(p1), maxAbsComponent(p2)));
-  hit.pError = std::max(floatFrameError(xf, hit.pObject, hit.p, scale, frameOrigin, p0, p1, p2),
-                        hitPointError(xf, hit.pObject, hit.p, scale, kDoubleRoundoff,
-                                      kAnalyticErrorFactor));
+  double objectMagnitude = maxAbsComponent(pObject);
+  double worldMagnitude = identity ? objectMagnitude : maxAbsComponent(p);
+  if (frameOrigin == Vec3(0, 0, 0)) {
+    // The float bound (which dominates the double one term by term).
+    hit.pError = hitPointErrorFromMagnitudes(xf, objectMagnitude, worldMagnitude, scale,
+                                             kFloatRoundoff, kTriangleErrorFactor);
+  } else {
+    hit.pError = std::max(floatFrameError(xf, pObject, p, scale, frameOrigin, p0, p1, p2),
+                          hitPointErrorFromMagnitudes(xf, objectMagnitude, worldMagnitude, scale,
+                                                      kDoubleRoundoff, kAnalyticErrorFactor));
+  }
 }
 
 } // namespace lray

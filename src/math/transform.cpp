@@ -63,6 +63,23 @@ double Mat4::det3() const {
          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
+Transform &Transform::cacheDerived() {
+  identity_ = m_ == Mat4::identity();
+  norms_ = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    double row = 0, invRow = 0;
+    for (int j = 0; j < 3; ++j) {
+      row += std::fabs(m_.m[i][j]);
+      invRow += std::fabs(inv_.m[i][j]);
+    }
+    norms_[0] = std::max(norms_[0], row);
+    norms_[1] = std::max(norms_[1], invRow);
+    norms_[2] = std::max(norms_[2], std::fabs(m_.m[i][3]));
+    norms_[3] = std::max(norms_[3], std::fabs(inv_.m[i][3]));
+  }
+  return *this;
+}
+
 Transform Transform::fromMatrix(const Mat4 &m) {
   Transform t;
   t.m_ = m;
@@ -70,7 +87,7 @@ Transform Transform::fromMatrix(const Mat4 &m) {
     t.singular_ = true;
     t.inv_ = Mat4::identity();
   }
-  return t;
+  return t.cacheDerived();
 }
 
 Transform Transform::translate(const Vec3 &v) {
@@ -85,7 +102,7 @@ Transform Transform::translate(const Vec3 &v) {
   t.inv_.m[1][3] = -v.y;
   t.inv_.m[2][3] = -v.z;
   t.singular_ = !isFinite(v);
-  return t;
+  return t.cacheDerived();
 }
 
 Transform Transform::scale(double sx, double sy, double sz) {
@@ -132,7 +149,7 @@ Transform Transform::rotate(const Vec3 &axis, double degrees) {
   t.inv_ = Mat4::identity();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) t.inv_.m[i][j] = m.m[j][i];
-  return t;
+  return t.cacheDerived();
 }
 
 Transform Transform::lookAt(const Vec3 &pos, const Vec3 &at, const Vec3 &up) {
@@ -163,7 +180,7 @@ Transform Transform::operator*(const Transform &o) const {
   t.m_ = m_ * o.m_;
   t.inv_ = o.inv_ * inv_;
   t.singular_ = singular_ || o.singular_;
-  return t;
+  return t.cacheDerived();
 }
 
 Transform Transform::inverse() const {
@@ -171,7 +188,7 @@ Transform Transform::inverse() const {
   t.m_ = inv_;
   t.inv_ = m_;
   t.singular_ = singular_;
-  return t;
+  return t.cacheDerived();
 }
 
 Vec3 Transform::applyPoint(const Vec3 &p) const {

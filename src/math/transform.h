@@ -54,16 +54,31 @@ public:
   const Mat4 &matrix() const { return m_; }
   const Mat4 &inverseMatrix() const { return inv_; }
   bool singular() const { return singular_; }
-  bool isIdentity() const { return m_ == Mat4::identity(); }
+  /// Exactly the identity matrix (a fast path for the per-hit code).
+  bool isIdentity() const { return identity_; }
+  /// Infinity norm (largest absolute row sum) of the linear part of the
+  /// matrix, of the inverse's, and the largest absolute translation component
+  /// of each: the constants of geometry/error_bound.h's rule, computed once
+  /// here instead of on every hit.
+  double linearNorm() const { return norms_[0]; }
+  double inverseLinearNorm() const { return norms_[1]; }
+  double translationNorm() const { return norms_[2]; }
+  double inverseTranslationNorm() const { return norms_[3]; }
   /// Largest absolute entry of the linear part (used for error bounds).
   double maxLinearEntry() const;
   /// Human-readable matrix rows, for messages and Lua tostring.
   std::string toString() const;
 
 private:
+  /// Recomputes identity_ and norms_ from m_ and inv_; every factory that
+  /// sets them ends with it.
+  Transform &cacheDerived();
+
   Mat4 m_ = Mat4::identity();
   Mat4 inv_ = Mat4::identity();
+  std::array<double, 4> norms_{1, 1, 0, 0};
   bool singular_ = false;
+  bool identity_ = true;
 };
 
 } // namespace lray

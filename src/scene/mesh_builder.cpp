@@ -95,6 +95,7 @@ MeshDataPtr buildMeshData(const MeshSource &src) {
   data->triangleIndices.reserve(data->triangles.size() * 3);
   for (const MeshTriangle &t : data->triangles)
     data->triangleIndices.insert(data->triangleIndices.end(), t.v, t.v + 3);
+  data->updateVertexNormalBase();
   return data;
 }
 

@@ -35,6 +35,23 @@ struct MeshData {
   bool hasUvs = false;
   /// True when normal indices are present for every corner.
   bool hasNormals = false;
+  /// B >= 0 when every corner's normal index is its vertex index + B and no
+  /// corner has a uv index (the scene layer's computed vertex normals):
+  /// the hit code then needs only the 12-byte `triangleIndices` entry of a
+  /// triangle, not its 36-byte MeshTriangle. -1 otherwise. Set by
+  /// updateVertexNormalBase() once `triangles` is complete.
+  int32_t vertexNormalBase = -1;
+
+  void updateVertexNormalBase() {
+    vertexNormalBase = -1;
+    if (triangles.empty()) return;
+    int64_t base = int64_t(triangles[0].n[0]) - triangles[0].v[0];
+    if (base < 0) return;
+    for (const MeshTriangle &t : triangles)
+      for (int k = 0; k < 3; ++k)
+        if (t.uv[k] >= 0 || int64_t(t.n[k]) - t.v[k] != base) return;
+    vertexNormalBase = static_cast<int32_t>(base);
+  }
 
   size_t memoryBytes() const {
     return positions.capacity() * sizeof(Vec3f) + normals.capacity() * sizeof(Vec3f) +

@@ -60,12 +60,23 @@ TEST(EmbreeRobustness, ClosedMeshIsWatertight) {
               missRandom, missEdge, missVertex);
   EXPECT_EQ(missRandom, 0);
   EXPECT_EQ(missEdge, 0);
-  // Embree 3.13.5's robust triangle test is watertight across edges but not
-  // exactly at vertices: used raw (float rays from float origins straight
-  // at vertices of this mesh) it misses about 300 in 1e5. Through this
-  // backend this probe measured 74 (AVX2 build); the bound allows for other
-  // ISAs' code paths while still catching a real hole (which would miss
-  // thousands).
+  // Embree 3.13.5's robust triangle test (the Pluecker test of
+  // kernels/geometry/triangle_intersector_pluecker.h) is watertight across
+  // edges, a shared edge giving exactly opposite values in its two
+  // triangles, but not at vertices: for a ray through a vertex every edge
+  // meeting there evaluates to rounding noise of about ulp |v| |e| |d|
+  // (v = vertex - ray origin, e = edge), while the test tolerates only
+  // ulp |U + V + W| ~ ulp |e|^2 |d|; when the noise gives all those edges
+  // one orientation, no triangle of the fan accepts the ray. Misses thus
+  // grow with distance / edge length (measured with raw Embree, float rays
+  // aimed exactly at the float vertices: 34 / 354 / 1270 per 1e5 for this
+  // sphere with 3 / 4 / 5 subdivisions; 19 and 0 with the origin moved 50 %
+  // and 90 % of the way to the vertex), not with how the ray is converted:
+  // a float ray through the vertex exactly is the worst case (about 350),
+  // and this backend's double-to-float rounding plus Embree's float
+  // instance transform, which only move the ray off the vertex by an ulp,
+  // give 74 here (AVX2 build). The bound allows for other ISAs' code paths
+  // while still catching a real hole (which would miss thousands).
   EXPECT_LE(missVertex, 300);
 }
 

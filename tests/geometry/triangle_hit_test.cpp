@@ -172,6 +172,60 @@ TEST(FillTriangleHit, BarycentricsAreSolvedAgainInDouble) {
   EXPECT_NEAR(exact.v, 0.35, 1e-15);
 }
 
+TEST(FillTriangleHit, CompactCornersGiveTheSameHitAsMeshTriangles) {
+  // Two triangles with vertex-indexed normals after one unrelated normal
+  // (base 1), under a transform and without: reading the corners from
+  // triangleIndices must not change a bit of the hit.
+  auto full = std::make_shared<MeshData>();
+  full->positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0.5f}, {2, 2, 1}};
+  full->normals = {{1, 0, 0}, {0, 0.1f, 1}, {0.2f, 0, 1}, {0, 0, 1}, {0.1f, 0.1f, 1}};
+  full->triangleIndices = {0, 1, 2, 1, 3, 2};
+  for (int f = 0; f < 2; ++f) {
+    MeshTriangle t;
+    for (int k = 0; k < 3; ++k) {
+      t.v[k] = full->triangleIndices[3 * f + k];
+      t.n[k] = static_cast<int32_t>(t.v[k]) + 1;
+    }
+    full->triangles.push_back(t);
+  }
+  auto compact = std::make_shared<MeshData>(*full);
+  compact->updateVertexNormalBase();
+  ASSERT_EQ(compact->vertexNormalBase, 1);
+  ASSERT_EQ(full->vertexNormalBase, -1);
+  for (const Transform &xf :
+       {Transform(), Transform::translate({1, -2, 3}) * Transform::rotate({1, 1, 0}, 30) *
+                         Transform::scale(1, 2, 3)}) {
+    for (uint32_t tri = 0; tri < 2; ++tri) {
+      Hit a, b;
+      Ray ray{{0.5, 0.5, -10}, {0, 0.1, 1}};
+      fillTriangleHit(meshEntity(full, xf, true), 3, tri, 2.0, 0.25, 0.5, ray, kWorldOrigin, a);
+      fillTriangleHit(meshEntity(compact, xf, true), 3, tri, 2.0, 0.25, 0.5, ray, kWorldOrigin, b);
+      EXPECT_EQ(a.p, b.p);
+      EXPECT_EQ(a.pObject, b.pObject);
+      EXPECT_EQ(a.ng, b.ng);
+      EXPECT_EQ(a.ns, b.ns);
+      EXPECT_EQ(a.u, b.u);
+      EXPECT_EQ(a.v, b.v);
+      EXPECT_EQ(a.pError, b.pError);
+    }
+  }
+}
+
+TEST(MeshData, VertexNormalBaseOnlyWhenCornersCarryNothingElse) {
+  auto m = oneTriangle();
+  m->normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  for (int k = 0; k < 3; ++k) m->triangles[0].n[k] = k;
+  m->updateVertexNormalBase();
+  EXPECT_EQ(m->vertexNormalBase, 0);
+  m->triangles[0].n[2] = 0; // normal index no longer follows the vertex
+  m->updateVertexNormalBase();
+  EXPECT_EQ(m->vertexNormalBase, -1);
+  m->triangles[0].n[2] = 2;
+  m->triangles[0].uv[0] = 0; // any uv index needs the MeshTriangle
+  m->updateVertexNormalBase();
+  EXPECT_EQ(m->vertexNormalBase, -1);
+}
+
 TEST(MeshObjectBounds, CoversThePositions) {
   auto m = oneTriangle();
   m->positions.push_back({-1, 5, 0.5f});

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace lray {
 namespace {
 
@@ -54,6 +57,34 @@ TEST(Transform, SingularMatricesAreFlagged) {
   EXPECT_TRUE(Transform::lookAt({0, 0, 0}, {0, 1, 0}, {0, 1, 0}).singular());
   EXPECT_TRUE(Transform::lookAt({1, 1, 1}, {1, 1, 1}, {0, 1, 0}).singular());
   EXPECT_TRUE((Transform::translate({1, 0, 0}) * Transform::scale(1, 0, 1)).singular());
+}
+
+TEST(Transform, CachesIdentityAndErrorNorms) {
+  EXPECT_TRUE(Transform().isIdentity());
+  Transform shift = Transform::translate({1, 2, 3});
+  EXPECT_FALSE(shift.isIdentity());
+  EXPECT_TRUE((shift * shift.inverse()).isIdentity());
+  Transform xf = Transform::translate({1, -5, 2}) * Transform::rotate({1, 2, 3}, 37) *
+                 Transform::scale(2, -3, 0.5);
+  for (const Transform &t : {xf, xf.inverse(), shift, Transform::scale(1, 4, 2)}) {
+    // Recompute from the matrices: largest absolute row sums and translations.
+    double rows[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 3; ++i) {
+      double r = 0, ri = 0;
+      for (int j = 0; j < 3; ++j) {
+        r += std::fabs(t.matrix().m[i][j]);
+        ri += std::fabs(t.inverseMatrix().m[i][j]);
+      }
+      rows[0] = std::max(rows[0], r);
+      rows[1] = std::max(rows[1], ri);
+      rows[2] = std::max(rows[2], std::fabs(t.matrix().m[i][3]));
+      rows[3] = std::max(rows[3], std::fabs(t.inverseMatrix().m[i][3]));
+    }
+    EXPECT_EQ(t.linearNorm(), rows[0]);
+    EXPECT_EQ(t.inverseLinearNorm(), rows[1]);
+    EXPECT_EQ(t.translationNorm(), rows[2]);
+    EXPECT_EQ(t.inverseTranslationNorm(), rows[3]);
+  }
 }
 
 TEST(Transform, LookAtPointsZAtTarget) {

@@ -47,6 +47,10 @@ TEST(MeshBuilderTest, NormalsAreAreaWeighted) {
   EXPECT_NEAR(n.z / n.x, -16, 1e-4);
 }
 
+TEST(MeshBuilderTest, ComputedNormalsLetTheHitCodeSkipMeshTriangles) {
+  EXPECT_EQ(buildMeshData(quad())->vertexNormalBase, 0);
+}
+
 TEST(MeshBuilderTest, KeepsGivenNormalsAndUvs) {
   MeshSource s;
   s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -60,6 +64,7 @@ TEST(MeshBuilderTest, KeepsGivenNormalsAndUvs) {
   EXPECT_EQ(m->normals.size(), 1u);
   EXPECT_EQ(m->triangles[0].n[2], 0);
   EXPECT_EQ(m->triangles[0].uv[1], 1);
+  EXPECT_EQ(m->vertexNormalBase, -1); // uv indices need the MeshTriangle
 }
 
 TEST(MeshBuilderTest, CornersWithoutNormalsGetComputedOnesAfterTheGivenOnes) {

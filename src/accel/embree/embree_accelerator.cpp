@@ -13,6 +13,7 @@
 
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
+#include "geometry/triangle_prefetch.h"
 
 #include <embree3/rtcore.h>
 
@@ -350,57 +351,78 @@ bool EmbreeAccelerator::occluded(const Ray &ray) const {
   return r.tfar < 0;
 }
 
+namespace {
+
+/// One 8-wide packet of intersectCoherent in flight.
+struct Packet {
+  alignas(32) RTCRayHit8 rh;
+  size_t base = 0, lanes = 0;
+  const MeshData *meshes[8] = {}; ///< per lane: the mesh hit, if any
+};
+
+} // namespace
+
 void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
                                           uint8_t *found) const {
-  for (size_t base = 0; base < count; base += 8) {
-    size_t lanes = std::min<size_t>(8, count - base);
-    alignas(32) int valid[8];
-    alignas(32) RTCRayHit8 rh;
-    double bestT[8];
-    for (unsigned i = 0; i < 8; ++i) {
-      valid[i] = i < lanes ? -1 : 0;
-      const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
-               rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
-      rh.ray.time[i] = 0;
-      rh.ray.mask[i] = 0xFFFFFFFFu;
-      rh.ray.id[i] = i;
-      rh.ray.flags[i] = 0;
-      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-      bestT[i] = r.tMax;
-    }
-    QueryContext ctx;
-    rtcInitIntersectContext(&ctx.base);
-    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    ctx.rays = rays + base;
-    ctx.hits = hits + base;
-    ctx.bestT = bestT;
-    rtcIntersect8(valid, root_, &ctx.base, &rh);
-    // The hit records read MeshData that Embree never touched (it keeps its
-    // own vertex copies): start those cache misses for all lanes at once.
-    const MeshData *meshes[8] = {};
-    for (unsigned i = 0; i < lanes; ++i) {
-      unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
-                                                                    : rh.hit.geomID[i];
-      if (id >= scene_.entities.size()) continue;
-      meshes[i] = scene_.entities[id].mesh.get();
-      __builtin_prefetch(&meshes[i]->triangles[rh.hit.primID[i]]);
-    }
-    for (unsigned i = 0; i < lanes; ++i) {
-      if (!meshes[i]) continue;
-      const MeshTriangle &t = meshes[i]->triangles[rh.hit.primID[i]];
-      for (int k = 0; k < 3; ++k) {
-        __builtin_prefetch(&meshes[i]->positions[t.v[k]]);
-        if (t.n[k] >= 0) __builtin_prefetch(&meshes[i]->normals[t.n[k]]);
+  // The mesh hit records read MeshData that Embree never touched (it keeps
+  // its own vertex copies), two dependent cache misses per hit (corner
+  // indices, then vertices). Software pipeline over packets: trace packet
+  // k, then prefetch packet k-1's vertices (its corners were prefetched a
+  // trace ago), then fill packet k-2, whose data has had two traces to
+  // arrive. Every lane is filled exactly as in intersect().
+  constexpr size_t kStages = 3;
+  Packet ring[kStages];
+  const size_t packets = (count + 7) / 8;
+  for (size_t k = 0; k < packets + kStages - 1; ++k) {
+    if (k < packets) {
+      Packet &pk = ring[k % kStages];
+      pk.base = 8 * k;
+      pk.lanes = std::min<size_t>(8, count - pk.base);
+      alignas(32) int valid[8];
+      double bestT[8];
+      RTCRayHit8 &rh = pk.rh;
+      for (unsigned i = 0; i < 8; ++i) {
+        valid[i] = i < pk.lanes ? -1 : 0;
+        const Ray &r = rays[pk.base + (i < pk.lanes ? i : 0)];
+        toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+                 rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+        rh.ray.time[i] = 0;
+        rh.ray.mask[i] = 0xFFFFFFFFu;
+        rh.ray.id[i] = i;
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        bestT[i] = r.tMax;
+      }
+      QueryContext ctx;
+      rtcInitIntersectContext(&ctx.base);
+      ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      ctx.rays = rays + pk.base;
+      ctx.hits = hits + pk.base;
+      ctx.bestT = bestT;
+      rtcIntersect8(valid, root_, &ctx.base, &rh);
+      for (unsigned i = 0; i < pk.lanes; ++i) {
+        unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
+                                                                      : rh.hit.geomID[i];
+        pk.meshes[i] = id < scene_.entities.size() ? scene_.entities[id].mesh.get() : nullptr;
+        if (pk.meshes[i]) prefetchTriangleCorners(*pk.meshes[i], rh.hit.primID[i]);
       }
     }
-    for (unsigned i = 0; i < lanes; ++i)
-      found[base + i] = finishHit(scene_, frameOrigin_, rh.hit.geomID[i], rh.hit.instID[0][i], rh.hit.primID[i],
-                                  rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i], rays[base + i],
-                                  hits[base + i])
-                            ? 1
-                            : 0;
+    if (k >= 1 && k - 1 < packets) {
+      const Packet &pk = ring[(k - 1) % kStages];
+      for (unsigned i = 0; i < pk.lanes; ++i)
+        if (pk.meshes[i]) prefetchTriangleVertices(*pk.meshes[i], pk.rh.hit.primID[i]);
+    }
+    if (k >= kStages - 1) {
+      const Packet &pk = ring[(k - (kStages - 1)) % kStages];
+      const RTCRayHit8 &rh = pk.rh;
+      for (unsigned i = 0; i < pk.lanes; ++i)
+        found[pk.base + i] = finishHit(scene_, frameOrigin_, rh.hit.geomID[i], rh.hit.instID[0][i],
+                                       rh.hit.primID[i], rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i],
+                                       rays[pk.base + i], hits[pk.base + i])
+                                 ? 1
+                                 : 0;
+    }
   }
 }
 

@@ -67,6 +67,13 @@ public:
   template <bool AnyHit, class PrimTest>
   bool traverse(const Ray &ray, double &tMax, PrimTest &&test) const;
 
+  /// The same walk, one call per non-empty leaf:
+  /// `bool testLeaf(uint32_t offset, uint32_t count, double &tMax)` tests the
+  /// leaf's references primIndices()[offset .. offset + count) (and any data
+  /// the caller keeps in that order) as `test` above does one primitive.
+  template <bool AnyHit, class LeafTest>
+  bool traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) const;
+
   /// Bounds of all primitives (rounded outwards to float), tree space.
   const Bounds3 &bounds() const { return bounds_; }
   bool empty() const { return nodes_.empty(); }
@@ -79,10 +86,11 @@ public:
   const std::vector<KdNode> &nodes() const { return nodes_; }
   /// Primitives of a leaf (for tests).
   std::vector<uint32_t> leafPrims(const KdNode &leaf) const {
-    if (leaf.primCount() == 1) return {leaf.primRef()};
-    auto first = primIndices_.begin() + leaf.primRef();
+    auto first = primIndices_.begin() + leaf.primOffset();
     return {first, first + leaf.primCount()};
   }
+  /// The leaves' primitive lists, one after another (leaf order).
+  std::span<const uint32_t> primIndices() const { return primIndices_; }
 
 private:
   friend class KdTreeBuilder;
@@ -100,6 +108,21 @@ private:
 
 template <bool AnyHit, class PrimTest>
 bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
+  return traverseLeaves<AnyHit>(ray, tMax, [&](uint32_t offset, uint32_t count, double &tBest) {
+    const uint32_t *prims = primIndices_.data() + offset;
+    bool hit = false;
+    for (uint32_t i = 0; i < count; ++i) {
+      if (test(prims[i], tBest)) {
+        hit = true;
+        if (AnyHit) return true;
+      }
+    }
+    return hit;
+  });
+}
+
+template <bool AnyHit, class LeafTest>
+bool KdTree::traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) const {
   if (nodes_.empty()) return false;
 
   // Ray against the root box (slab test). An axis the ray is parallel to only
@@ -178,20 +201,10 @@ bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
       continue;
     }
 
-    uint32_t count = node.primCount();
-    if (count == 1) {
-      if (test(node.primRef(), tMax)) {
-        hit = true;
-        if (AnyHit) return true;
-      }
-    } else {
-      const uint32_t *prims = primIndices_.data() + node.primRef();
-      for (uint32_t i = 0; i < count; ++i) {
-        if (test(prims[i], tMax)) {
-          hit = true;
-          if (AnyHit) return true;
-        }
-      }
+    const uint32_t count = node.primCount();
+    if (count > 0 && testLeaf(node.primOffset(), count, tMax)) {
+      hit = true;
+      if (AnyHit) return true;
     }
     if (top == 0) break;
     --top;

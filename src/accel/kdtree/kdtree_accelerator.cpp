@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <unordered_map>
 
 namespace lray {
@@ -95,8 +96,17 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
     instances_.push_back(inst);
   }
   // Many small meshes build side by side; a big one parallelises inside.
-  tbb::parallel_for(size_t{0}, meshTrees_.size(),
-                    [this](size_t i) { meshTrees_[i].tree = buildMeshTree(*meshTrees_[i].mesh); });
+  tbb::parallel_for(size_t{0}, meshTrees_.size(), [this](size_t i) {
+    MeshTree &mt = meshTrees_[i];
+    mt.tree = buildMeshTree(*mt.mesh);
+    std::span<const uint32_t> refs = mt.tree.primIndices();
+    mt.leafTriangles.resize(refs.size());
+    tbb::parallel_for(size_t{0}, refs.size(), [&](size_t r) {
+      const uint32_t *idx = mt.mesh->triangleIndices.data() + 3 * size_t{refs[r]};
+      const std::vector<Vec3f> &pos = mt.mesh->positions;
+      mt.leafTriangles[r] = {pos[idx[0]], pos[idx[1]], pos[idx[2]]};
+    });
+  });
   for (const MeshTree &mt : meshTrees_) stats_.primitives += mt.mesh->triangleIndices.size() / 3;
   top_ = KdTree::build(topBounds, [&topBounds](uint32_t i, const Bounds3 &box) {
     Bounds3 b = topBounds[i];
@@ -109,14 +119,17 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats_.memoryBytes = top_.memoryBytes() + instances_.capacity() * sizeof(Instance) +
                        meshTrees_.capacity() * sizeof(MeshTree);
-  for (const MeshTree &mt : meshTrees_) stats_.memoryBytes += mt.tree.memoryBytes();
+  for (const MeshTree &mt : meshTrees_)
+    stats_.memoryBytes +=
+        mt.tree.memoryBytes() + mt.leafTriangles.capacity() * sizeof(LeafTriangle);
 }
 
 bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
-  // The nearest triangle is only recorded during traversal; its Hit is filled
-  // once at the end. Analytic shapes fill theirs as they are found.
+  // The nearest triangle is only recorded during traversal (as its leaf
+  // reference); its Hit is filled once at the end. Analytic shapes fill
+  // theirs as they are found.
   struct TriangleCandidate {
-    uint32_t entity = 0, triangle = 0;
+    uint32_t entity = 0, meshTree = 0, ref = 0;
     double b1 = 0, b2 = 0;
   } best;
   bool bestIsTriangle = false;
@@ -139,20 +152,28 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
     const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
     const WatertightRay wray(objectRay);
     const MeshTree &mt = meshTrees_[inst.meshTree];
-    return mt.tree.traverse<false>(objectRay, tBest, [&](uint32_t tri, double &tTri) {
-      TriangleCorners c = corners(*mt.mesh, tri);
-      TriangleHitParams params;
-      if (!intersectTriangle(wray, c.p0, c.p1, c.p2, tTri, params)) return false;
-      tTri = params.t;
-      best = {inst.entity, tri, params.b1, params.b2};
-      bestIsTriangle = true;
-      return true;
-    });
+    const LeafTriangle *triangles = mt.leafTriangles.data();
+    return mt.tree.traverseLeaves<false>(
+        objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
+          bool hitHere = false;
+          for (uint32_t r = offset; r < offset + count; ++r) {
+            const LeafTriangle &tri = triangles[r];
+            TriangleHitParams params;
+            if (!intersectFloatTriangle(wray, tri.p0, tri.p1, tri.p2, tTri, params))
+              continue;
+            tTri = params.t;
+            best = {inst.entity, inst.meshTree, r, params.b1, params.b2};
+            bestIsTriangle = true;
+            hitHere = true;
+          }
+          return hitHere;
+        });
   });
   if (!found) return false;
   if (bestIsTriangle) {
-    fillTriangleHit(scene_.entities[best.entity], best.entity, best.triangle, tMax, best.b1,
-                    best.b2, ray, hit);
+    uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.ref];
+    fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.b1, best.b2,
+                    ray, hit);
   } else {
     hit = shapeHit;
   }
@@ -168,12 +189,18 @@ bool KdTreeAccelerator::occluded(const Ray &ray) const {
     const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
     const WatertightRay wray(objectRay);
     const MeshTree &mt = meshTrees_[inst.meshTree];
+    const LeafTriangle *triangles = mt.leafTriangles.data();
     double tObject = objectRay.tMax;
-    return mt.tree.traverse<true>(objectRay, tObject, [&](uint32_t tri, double &tTri) {
-      TriangleCorners c = corners(*mt.mesh, tri);
-      TriangleHitParams params;
-      return intersectTriangle(wray, c.p0, c.p1, c.p2, tTri, params);
-    });
+    return mt.tree.traverseLeaves<true>(
+        objectRay, tObject, [&](uint32_t offset, uint32_t count, double &tTri) {
+          for (uint32_t r = offset; r < offset + count; ++r) {
+            const LeafTriangle &tri = triangles[r];
+            TriangleHitParams params;
+            if (intersectFloatTriangle(wray, tri.p0, tri.p1, tri.p2, tTri, params))
+              return true;
+          }
+          return false;
+        });
   });
 }
 

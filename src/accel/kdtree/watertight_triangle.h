@@ -16,27 +16,24 @@ namespace lray {
 
 /// A ray prepared for the watertight test: the axis along which it moves
 /// most becomes z (kz); kx, ky are the other two in an order that keeps the
-/// triangle's winding; (sx, sy, sz) shear the ray direction onto (0, 0, 1).
-/// The permutation and shear are stored as three rows, so a vertex v maps to
-/// (dot(rowX, v), dot(rowY, v), dot(rowZ, v)) without branches: each row has
-/// one or two non-zero entries (1 and -s), so the dot product rounds exactly
-/// as v[kx] - sx * v[kz] does.
+/// triangle's winding; (sx, sy, sz) shear the ray direction onto (0, 0, 1),
+/// so a vertex v relative to the origin maps to
+/// (v[kx] - sx v[kz], v[ky] - sy v[kz], sz v[kz]).
 struct WatertightRay {
-  Vec3 o;
-  Vec3 rowX, rowY, rowZ;
+  double o[3];
+  int kx, ky, kz;
+  double sx, sy, sz;
   double tMin = 0;
 
-  explicit WatertightRay(const Ray &ray) : o(ray.o), tMin(ray.tMin) {
+  explicit WatertightRay(const Ray &ray) : o{ray.o.x, ray.o.y, ray.o.z}, tMin(ray.tMin) {
     Vec3 ad = abs(ray.d);
-    int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    int kx = (kz + 1) % 3;
-    int ky = (kx + 1) % 3;
+    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
     if (ray.d[kz] < 0) std::swap(kx, ky);
-    rowX[kx] = 1;
-    rowX[kz] = -(ray.d[kx] / ray.d[kz]);
-    rowY[ky] = 1;
-    rowY[kz] = -(ray.d[ky] / ray.d[kz]);
-    rowZ[kz] = 1.0 / ray.d[kz];
+    sx = ray.d[kx] / ray.d[kz];
+    sy = ray.d[ky] / ray.d[kz];
+    sz = 1.0 / ray.d[kz];
   }
 };
 
@@ -45,16 +42,19 @@ struct TriangleHitParams {
   double t = 0, b1 = 0, b2 = 0;
 };
 
-/// Watertight intersection of the ray with triangle (p0, p1, p2), both in the
-/// same space, for t in (ray.tMin, tMax). Either facing is hit; a triangle
-/// seen exactly edge-on is missed.
-inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Vec3 &p1,
-                              const Vec3 &p2, double tMax, TriangleHitParams &out) {
+namespace detail {
+
+template <class Point>
+inline bool intersectTriangleCorners(const WatertightRay &ray, const Point &p0, const Point &p1,
+                                     const Point &p2, double tMax, TriangleHitParams &out) {
   // Vertices relative to the origin, then sheared so the ray runs along +z.
-  const Vec3 a = p0 - ray.o, b = p1 - ray.o, c = p2 - ray.o;
-  const double ax = dot(ray.rowX, a), ay = dot(ray.rowY, a);
-  const double bx = dot(ray.rowX, b), by = dot(ray.rowY, b);
-  const double cx = dot(ray.rowX, c), cy = dot(ray.rowY, c);
+  const double a[3] = {p0.x - ray.o[0], p0.y - ray.o[1], p0.z - ray.o[2]};
+  const double b[3] = {p1.x - ray.o[0], p1.y - ray.o[1], p1.z - ray.o[2]};
+  const double c[3] = {p2.x - ray.o[0], p2.y - ray.o[1], p2.z - ray.o[2]};
+  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
+  const double ax = a[kx] - ray.sx * a[kz], ay = a[ky] - ray.sy * a[kz];
+  const double bx = b[kx] - ray.sx * b[kz], by = b[ky] - ray.sy * b[kz];
+  const double cx = c[kx] - ray.sx * c[kz], cy = c[ky] - ray.sy * c[kz];
 
   // Edge functions: e0 for edge p1-p2 (weight of p0), e1 for p2-p0, e2 for p0-p1.
   double e0 = cx * by - cy * bx;
@@ -73,7 +73,7 @@ inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Ve
   if (det == 0) return false;
 
   // Scaled hit distance, compared before dividing.
-  const double az = dot(ray.rowZ, a), bz = dot(ray.rowZ, b), cz = dot(ray.rowZ, c);
+  const double az = ray.sz * a[kz], bz = ray.sz * b[kz], cz = ray.sz * c[kz];
   const double tScaled = e0 * az + e1 * bz + e2 * cz;
   const double invDet = 1.0 / det;
   const double t = tScaled * invDet;
@@ -82,6 +82,22 @@ inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Ve
   out.b1 = e1 * invDet;
   out.b2 = e2 * invDet;
   return true;
+}
+
+} // namespace detail
+
+/// Watertight intersection of the ray with triangle (p0, p1, p2), both in the
+/// same space, for t in (ray.tMin, tMax). Either facing is hit; a triangle
+/// seen exactly edge-on is missed.
+inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Vec3 &p1,
+                              const Vec3 &p2, double tMax, TriangleHitParams &out) {
+  return detail::intersectTriangleCorners(ray, p0, p1, p2, tMax, out);
+}
+
+/// The same for a mesh's float corners (the same result as their Vec3 values).
+inline bool intersectFloatTriangle(const WatertightRay &ray, const Vec3f &p0, const Vec3f &p1,
+                                   const Vec3f &p2, double tMax, TriangleHitParams &out) {
+  return detail::intersectTriangleCorners(ray, p0, p1, p2, tMax, out);
 }
 
 } // namespace lray

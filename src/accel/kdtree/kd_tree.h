@@ -133,9 +133,11 @@ bool KdTree::traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) c
   const double org[3] = {ray.o.x, ray.o.y, ray.o.z};
   const double dir[3] = {ray.d.x, ray.d.y, ray.d.z};
   double invD[3];
+  uint32_t dirNegative[3];
   for (int a = 0; a < 3; ++a) {
     double d = dir[a], o = org[a];
     invD[a] = 1.0 / d;
+    dirNegative[a] = d < 0 ? 1 : 0;
     if (d == 0) {
       if (o < bounds_.lo[a] || o > bounds_.hi[a]) return false;
       continue;
@@ -178,25 +180,22 @@ bool KdTree::traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) c
         }
         continue;
       }
-      // The sign of split - o is exact, so a ray leaving the plane (or
-      // starting on it) is never sent to the side it does not enter.
-      double tPlane = (split - o) * invD[axis];
-      bool belowFirst = o < split || (o == split && dir[axis] <= 0);
-      uint32_t first = belowFirst ? below : above;
-      uint32_t second = belowFirst ? above : below;
-      if (tPlane <= 0) {
-        nodeIndex = first;
-        continue;
-      }
-      double tPlaneLo = tPlane * (1 - kSlack), tPlaneHi = tPlane * (1 + kSlack);
-      bool visitFirst = tPlaneHi >= t0;
-      bool visitSecond = tPlaneLo <= t1;
-      if (visitFirst && visitSecond) {
-        stack[top++] = {second, std::max(t0, tPlaneLo), t1};
-        nodeIndex = first;
-        t1 = std::min(t1, tPlaneHi);
+      // The near child holds the ray's line before the plane (t < tPlane),
+      // the far child after it. The sign of split - o is exact, so a plane
+      // behind the origin (tPlane < 0) is never widened to reach t >= 0; a
+      // ray starting on the plane at t0 = 0 visits both sides.
+      const double tPlane = (split - o) * invD[axis];
+      const double slack = std::fabs(tPlane) * kSlack;
+      const uint32_t nearChild = below + dirNegative[axis];
+      const uint32_t farChild = above - dirNegative[axis];
+      if (!(tPlane + slack >= t0)) {
+        nodeIndex = farChild; // the cell starts beyond the plane (or NaN: keep one side)
+      } else if (!(tPlane - slack <= t1)) {
+        nodeIndex = nearChild; // the cell ends before the plane
       } else {
-        nodeIndex = visitFirst ? first : second;
+        stack[top++] = {farChild, std::max(t0, tPlane - slack), t1};
+        nodeIndex = nearChild;
+        t1 = std::min(t1, tPlane + slack);
       }
       continue;
     }

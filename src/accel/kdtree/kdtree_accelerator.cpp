@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <span>
+#include <type_traits>
 #include <unordered_map>
 
 namespace lray {
@@ -28,6 +29,16 @@ TriangleCorners corners(const MeshData &mesh, uint32_t triangle) {
   const uint32_t *idx = mesh.triangleIndices.data() + 3 * size_t{triangle};
   return {toVec3(mesh.positions[idx[0]]), toVec3(mesh.positions[idx[1]]),
           toVec3(mesh.positions[idx[2]])};
+}
+
+// Calls f(std::integral_constant<int, kz>) for the ray's dominant axis kz,
+// so the triangle test of a whole traversal is compiled for that axis.
+template <class F> bool withRayAxis(int kz, F &&f) {
+  switch (kz) {
+  case 0: return f(std::integral_constant<int, 0>{});
+  case 1: return f(std::integral_constant<int, 1>{});
+  default: return f(std::integral_constant<int, 2>{});
+  }
 }
 
 KdTree buildMeshTree(const MeshData &mesh) {
@@ -126,15 +137,14 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
 
 bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   // The nearest triangle is only recorded during traversal (as its leaf
-  // reference); its Hit is filled once at the end. Analytic shapes fill
-  // theirs as they are found.
+  // reference); its Hit is filled once at the end. Analytic shapes write
+  // theirs into `hit` as they are found (a nearer find overwrites it).
   struct TriangleCandidate {
     uint32_t entity = 0, meshTree = 0, ref = 0;
     double b1 = 0, b2 = 0;
   } best;
   bool bestIsTriangle = false;
   double tMax = ray.tMax;
-  Hit shapeHit;
   bool found = top_.traverse<false>(ray, tMax, [&](uint32_t prim, double &tBest) {
     const Instance &inst = instances_[prim];
     const Entity &entity = scene_.entities[inst.entity];
@@ -144,7 +154,7 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
       Hit candidate;
       if (!intersectShape(entity, inst.entity, bounded, candidate) || !(candidate.t < tBest))
         return false;
-      shapeHit = candidate;
+      hit = candidate;
       tBest = candidate.t;
       bestIsTriangle = false;
       return true;
@@ -153,29 +163,30 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
     const WatertightRay wray(objectRay);
     const MeshTree &mt = meshTrees_[inst.meshTree];
     const LeafTriangle *triangles = mt.leafTriangles.data();
-    return mt.tree.traverseLeaves<false>(
-        objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
-          bool hitHere = false;
-          for (uint32_t r = offset; r < offset + count; ++r) {
-            const LeafTriangle &tri = triangles[r];
-            TriangleHitParams params;
-            if (!intersectFloatTriangle(wray, tri.p0, tri.p1, tri.p2, tTri, params))
-              continue;
-            tTri = params.t;
-            best = {inst.entity, inst.meshTree, r, params.b1, params.b2};
-            bestIsTriangle = true;
-            hitHere = true;
-          }
-          return hitHere;
-        });
+    return withRayAxis(wray.kz, [&](auto axis) {
+      constexpr int kz = decltype(axis)::value;
+      return mt.tree.traverseLeaves<false>(
+          objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
+            bool hitHere = false;
+            for (uint32_t r = offset; r < offset + count; ++r) {
+              const LeafTriangle &tri = triangles[r];
+              TriangleHitParams params;
+              if (!intersectFloatTriangle<kz>(wray, tri.p0, tri.p1, tri.p2, tTri, params))
+                continue;
+              tTri = params.t;
+              best = {inst.entity, inst.meshTree, r, params.b1, params.b2};
+              bestIsTriangle = true;
+              hitHere = true;
+            }
+            return hitHere;
+          });
+    });
   });
   if (!found) return false;
   if (bestIsTriangle) {
     uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.ref];
     fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.b1, best.b2,
                     ray, hit);
-  } else {
-    hit = shapeHit;
   }
   return true;
 }
@@ -191,16 +202,19 @@ bool KdTreeAccelerator::occluded(const Ray &ray) const {
     const MeshTree &mt = meshTrees_[inst.meshTree];
     const LeafTriangle *triangles = mt.leafTriangles.data();
     double tObject = objectRay.tMax;
-    return mt.tree.traverseLeaves<true>(
-        objectRay, tObject, [&](uint32_t offset, uint32_t count, double &tTri) {
-          for (uint32_t r = offset; r < offset + count; ++r) {
-            const LeafTriangle &tri = triangles[r];
-            TriangleHitParams params;
-            if (intersectFloatTriangle(wray, tri.p0, tri.p1, tri.p2, tTri, params))
-              return true;
-          }
-          return false;
-        });
+    return withRayAxis(wray.kz, [&](auto axis) {
+      constexpr int kz = decltype(axis)::value;
+      return mt.tree.traverseLeaves<true>(
+          objectRay, tObject, [&](uint32_t offset, uint32_t count, double &tTri) {
+            for (uint32_t r = offset; r < offset + count; ++r) {
+              const LeafTriangle &tri = triangles[r];
+              TriangleHitParams params;
+              if (intersectFloatTriangle<kz>(wray, tri.p0, tri.p1, tri.p2, tTri, params))
+                return true;
+            }
+            return false;
+          });
+    });
   });
 }
 

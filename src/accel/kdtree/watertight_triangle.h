@@ -10,15 +10,16 @@
 #include "math/vec3.h"
 
 #include <cmath>
-#include <utility>
 
 namespace lray {
 
 /// A ray prepared for the watertight test: the axis along which it moves
-/// most becomes z (kz); kx, ky are the other two in an order that keeps the
-/// triangle's winding; (sx, sy, sz) shear the ray direction onto (0, 0, 1),
-/// so a vertex v relative to the origin maps to
-/// (v[kx] - sx v[kz], v[ky] - sy v[kz], sz v[kz]).
+/// most becomes z (kz), kx and ky follow cyclically; (sx, sy, sz) shear the
+/// ray direction onto (0, 0, 1), so a vertex v relative to the origin maps
+/// to (v[kx] - sx v[kz], v[ky] - sy v[kz], sz v[kz]). (The paper swaps kx
+/// and ky for rays along -kz to keep the winding; that only negates all
+/// three edge functions exactly, and both facings are hit here, so t and
+/// the barycentrics are the same without it.)
 struct WatertightRay {
   double o[3];
   int kx, ky, kz;
@@ -30,7 +31,6 @@ struct WatertightRay {
     kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
     kx = (kz + 1) % 3;
     ky = (kx + 1) % 3;
-    if (ray.d[kz] < 0) std::swap(kx, ky);
     sx = ray.d[kx] / ray.d[kz];
     sy = ray.d[ky] / ray.d[kz];
     sz = 1.0 / ray.d[kz];
@@ -44,14 +44,16 @@ struct TriangleHitParams {
 
 namespace detail {
 
-template <class Point>
+/// The test with the ray's axis kz known at compile time (the permutation
+/// then costs nothing); `ray.kz` must equal Kz.
+template <int Kz, class Point>
 inline bool intersectTriangleCorners(const WatertightRay &ray, const Point &p0, const Point &p1,
                                      const Point &p2, double tMax, TriangleHitParams &out) {
   // Vertices relative to the origin, then sheared so the ray runs along +z.
   const double a[3] = {p0.x - ray.o[0], p0.y - ray.o[1], p0.z - ray.o[2]};
   const double b[3] = {p1.x - ray.o[0], p1.y - ray.o[1], p1.z - ray.o[2]};
   const double c[3] = {p2.x - ray.o[0], p2.y - ray.o[1], p2.z - ray.o[2]};
-  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
+  constexpr int kz = Kz, kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
   const double ax = a[kx] - ray.sx * a[kz], ay = a[ky] - ray.sy * a[kz];
   const double bx = b[kx] - ray.sx * b[kz], by = b[ky] - ray.sy * b[kz];
   const double cx = c[kx] - ray.sx * c[kz], cy = c[ky] - ray.sy * c[kz];
@@ -91,13 +93,20 @@ inline bool intersectTriangleCorners(const WatertightRay &ray, const Point &p0, 
 /// seen exactly edge-on is missed.
 inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Vec3 &p1,
                               const Vec3 &p2, double tMax, TriangleHitParams &out) {
-  return detail::intersectTriangleCorners(ray, p0, p1, p2, tMax, out);
+  switch (ray.kz) {
+  case 0: return detail::intersectTriangleCorners<0>(ray, p0, p1, p2, tMax, out);
+  case 1: return detail::intersectTriangleCorners<1>(ray, p0, p1, p2, tMax, out);
+  default: return detail::intersectTriangleCorners<2>(ray, p0, p1, p2, tMax, out);
+  }
 }
 
-/// The same for a mesh's float corners (the same result as their Vec3 values).
+/// The same for a mesh's float corners (the same result as their Vec3
+/// values), with the ray's axis fixed at compile time: callers dispatch on
+/// ray.kz once per ray, not once per triangle.
+template <int Kz>
 inline bool intersectFloatTriangle(const WatertightRay &ray, const Vec3f &p0, const Vec3f &p1,
                                    const Vec3f &p2, double tMax, TriangleHitParams &out) {
-  return detail::intersectTriangleCorners(ray, p0, p1, p2, tMax, out);
+  return detail::intersectTriangleCorners<Kz>(ray, p0, p1, p2, tMax, out);
 }
 
 } // namespace lray

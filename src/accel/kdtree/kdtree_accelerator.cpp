@@ -115,7 +115,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene) : scene_(scene) {
     tbb::parallel_for(size_t{0}, refs.size(), [&](size_t r) {
       const uint32_t *idx = mt.mesh->triangleIndices.data() + 3 * size_t{refs[r]};
       const std::vector<Vec3f> &pos = mt.mesh->positions;
-      mt.leafTriangles[r] = {pos[idx[0]], pos[idx[1]], pos[idx[2]]};
+      mt.leafTriangles[r] = {{pos[idx[0]], pos[idx[1]], pos[idx[2]]}};
     });
   });
   for (const MeshTree &mt : meshTrees_) stats_.primitives += mt.mesh->triangleIndices.size() / 3;
@@ -168,16 +168,36 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
       return mt.tree.traverseLeaves<false>(
           objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
             bool hitHere = false;
-            for (uint32_t r = offset; r < offset + count; ++r) {
-              const LeafTriangle &tri = triangles[r];
-              TriangleHitParams params;
-              if (!intersectFloatTriangle<kz>(wray, tri.p0, tri.p1, tri.p2, tTri, params))
-                continue;
+            auto record = [&](uint32_t r, const TriangleHitParams &params) {
               tTri = params.t;
               best = {inst.entity, inst.meshTree, r, params.b1, params.b2};
               bestIsTriangle = true;
               hitHere = true;
+            };
+            auto testOne = [&](uint32_t r) {
+              const Vec3f *p = triangles[r].p;
+              TriangleHitParams params;
+              if (intersectFloatTriangle<kz>(wray, p[0], p[1], p[2], tTri, params))
+                record(r, params);
+            };
+            const uint32_t end = offset + count;
+            uint32_t r = offset;
+            for (; r + 1 < end; r += 2) {
+              TrianglePairEdges pair;
+              if (!triangleEdgesPair<kz>(wray, triangles[r].p, triangles[r + 1].p, pair)) {
+                testOne(r);
+                testOne(r + 1);
+                continue;
+              }
+              for (uint32_t i = 0; i < 2; ++i) {
+                TriangleHitParams params;
+                if (pair.pass[i] && finishTriangle(wray, pair.e0[i], pair.e1[i], pair.e2[i],
+                                                   pair.akz[i], pair.bkz[i], pair.ckz[i], tTri,
+                                                   params))
+                  record(r + i, params);
+              }
             }
+            if (r < end) testOne(r);
             return hitHere;
           });
     });
@@ -206,13 +226,26 @@ bool KdTreeAccelerator::occluded(const Ray &ray) const {
       constexpr int kz = decltype(axis)::value;
       return mt.tree.traverseLeaves<true>(
           objectRay, tObject, [&](uint32_t offset, uint32_t count, double &tTri) {
-            for (uint32_t r = offset; r < offset + count; ++r) {
-              const LeafTriangle &tri = triangles[r];
-              TriangleHitParams params;
-              if (intersectFloatTriangle<kz>(wray, tri.p0, tri.p1, tri.p2, tTri, params))
-                return true;
+            TriangleHitParams params;
+            auto testOne = [&](uint32_t r) {
+              const Vec3f *p = triangles[r].p;
+              return intersectFloatTriangle<kz>(wray, p[0], p[1], p[2], tTri, params);
+            };
+            const uint32_t end = offset + count;
+            uint32_t r = offset;
+            for (; r + 1 < end; r += 2) {
+              TrianglePairEdges pair;
+              if (!triangleEdgesPair<kz>(wray, triangles[r].p, triangles[r + 1].p, pair)) {
+                if (testOne(r) || testOne(r + 1)) return true;
+                continue;
+              }
+              for (int i = 0; i < 2; ++i)
+                if (pair.pass[i] && finishTriangle(wray, pair.e0[i], pair.e1[i], pair.e2[i],
+                                                   pair.akz[i], pair.bkz[i], pair.ckz[i], tTri,
+                                                   params))
+                  return true;
             }
-            return false;
+            return r < end && testOne(r);
           });
     });
   });

@@ -45,7 +45,7 @@ private:
   /// the tree's leaf order: a leaf's triangles are read from one contiguous
   /// run instead of through the index and position arrays.
   struct LeafTriangle {
-    Vec3f p0, p1, p2;
+    Vec3f p[3];
   };
   struct MeshTree {
     const MeshData *mesh = nullptr;

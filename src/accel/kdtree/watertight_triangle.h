@@ -42,6 +42,25 @@ struct TriangleHitParams {
   double t = 0, b1 = 0, b2 = 0;
 };
 
+/// The end of the test for a triangle whose edge functions e0, e1, e2 agree
+/// in sign; akz, bkz, ckz are its corners' kz components relative to the
+/// ray origin.
+inline bool finishTriangle(const WatertightRay &ray, double e0, double e1, double e2, double akz,
+                           double bkz, double ckz, double tMax, TriangleHitParams &out) {
+  const double det = e0 + e1 + e2;
+  if (det == 0) return false;
+  // Scaled hit distance, compared before dividing.
+  const double az = ray.sz * akz, bz = ray.sz * bkz, cz = ray.sz * ckz;
+  const double tScaled = e0 * az + e1 * bz + e2 * cz;
+  const double invDet = 1.0 / det;
+  const double t = tScaled * invDet;
+  if (!(t > ray.tMin && t < tMax)) return false;
+  out.t = t;
+  out.b1 = e1 * invDet;
+  out.b2 = e2 * invDet;
+  return true;
+}
+
 namespace detail {
 
 /// The test with the ray's axis kz known at compile time (the permutation
@@ -71,19 +90,13 @@ inline bool intersectTriangleCorners(const WatertightRay &ray, const Point &p0, 
   if (e1 == 0) e1 = static_cast<double>(Wide(ax) * Wide(cy) - Wide(ay) * Wide(cx));
   if (e2 == 0) e2 = static_cast<double>(Wide(bx) * Wide(ay) - Wide(by) * Wide(ax));
   if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
-  const double det = e0 + e1 + e2;
-  if (det == 0) return false;
+  return finishTriangle(ray, e0, e1, e2, a[kz], b[kz], c[kz], tMax, out);
+}
 
-  // Scaled hit distance, compared before dividing.
-  const double az = ray.sz * a[kz], bz = ray.sz * b[kz], cz = ray.sz * c[kz];
-  const double tScaled = e0 * az + e1 * bz + e2 * cz;
-  const double invDet = 1.0 / det;
-  const double t = tScaled * invDet;
-  if (!(t > ray.tMin && t < tMax)) return false;
-  out.t = t;
-  out.b1 = e1 * invDet;
-  out.b2 = e2 * invDet;
-  return true;
+template <int K> inline float component(const Vec3f &v) {
+  if constexpr (K == 0) return v.x;
+  else if constexpr (K == 1) return v.y;
+  else return v.z;
 }
 
 } // namespace detail
@@ -107,6 +120,63 @@ template <int Kz>
 inline bool intersectFloatTriangle(const WatertightRay &ray, const Vec3f &p0, const Vec3f &p1,
                                    const Vec3f &p2, double tMax, TriangleHitParams &out) {
   return detail::intersectTriangleCorners<Kz>(ray, p0, p1, p2, tMax, out);
+}
+
+} // namespace lray
+
+namespace lray {
+
+/// Edge functions of two triangles computed side by side (two SIMD lanes);
+/// `pass[i]`: triangle i's edge functions agree in sign, and
+/// finishTriangle(ray, e0[i], e1[i], e2[i], akz[i], bkz[i], ckz[i], ...)
+/// completes its test.
+struct TrianglePairEdges {
+  double e0[2], e1[2], e2[2], akz[2], bkz[2], ckz[2];
+  bool pass[2];
+};
+
+/// The first half of intersectFloatTriangle<Kz> for triangles tri0[0..2] and
+/// tri1[0..2] at once: each lane performs exactly the single test's
+/// operations, so results never depend on which path tested a triangle.
+/// Returns false, computing nothing, when an edge function is zero in either
+/// lane: the single test, with its wider-precision recomputation, decides those.
+template <int Kz>
+inline bool triangleEdgesPair(const WatertightRay &ray, const Vec3f *tri0, const Vec3f *tri1,
+                              TrianglePairEdges &out) {
+  using Double2 = double __attribute__((vector_size(16)));
+  constexpr int kz = Kz, kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
+  using detail::component;
+  const Double2 ox = {ray.o[kx], ray.o[kx]}, oy = {ray.o[ky], ray.o[ky]},
+                oz = {ray.o[kz], ray.o[kz]};
+  const Double2 sx = {ray.sx, ray.sx}, sy = {ray.sy, ray.sy};
+  const Double2 akx = Double2{component<kx>(tri0[0]), component<kx>(tri1[0])} - ox;
+  const Double2 aky = Double2{component<ky>(tri0[0]), component<ky>(tri1[0])} - oy;
+  const Double2 akz = Double2{component<kz>(tri0[0]), component<kz>(tri1[0])} - oz;
+  const Double2 bkx = Double2{component<kx>(tri0[1]), component<kx>(tri1[1])} - ox;
+  const Double2 bky = Double2{component<ky>(tri0[1]), component<ky>(tri1[1])} - oy;
+  const Double2 bkz = Double2{component<kz>(tri0[1]), component<kz>(tri1[1])} - oz;
+  const Double2 ckx = Double2{component<kx>(tri0[2]), component<kx>(tri1[2])} - ox;
+  const Double2 cky = Double2{component<ky>(tri0[2]), component<ky>(tri1[2])} - oy;
+  const Double2 ckz = Double2{component<kz>(tri0[2]), component<kz>(tri1[2])} - oz;
+  const Double2 ax = akx - sx * akz, ay = aky - sy * akz;
+  const Double2 bx = bkx - sx * bkz, by = bky - sy * bkz;
+  const Double2 cx = ckx - sx * ckz, cy = cky - sy * ckz;
+  const Double2 e0 = cx * by - cy * bx;
+  const Double2 e1 = ax * cy - ay * cx;
+  const Double2 e2 = bx * ay - by * ax;
+  const auto zero = (e0 == 0) | (e1 == 0) | (e2 == 0);
+  if (zero[0] | zero[1]) return false;
+  const auto miss = ((e0 < 0) | (e1 < 0) | (e2 < 0)) & ((e0 > 0) | (e1 > 0) | (e2 > 0));
+  for (int i = 0; i < 2; ++i) {
+    out.pass[i] = miss[i] == 0;
+    out.e0[i] = e0[i];
+    out.e1[i] = e1[i];
+    out.e2[i] = e2[i];
+    out.akz[i] = akz[i];
+    out.bkz[i] = bkz[i];
+    out.ckz[i] = ckz[i];
+  }
+  return true;
 }
 
 } // namespace lray

@@ -32,6 +32,8 @@ public:
 
   /// True for leaves (flag value 3 in the axis bits).
   bool isLeaf() const { return (bits_ & 3u) == 3u; }
+  /// True for leaves without primitives.
+  bool isEmptyLeaf() const { return bits_ == 3u; }
   /// Split axis (0 = x, 1 = y, 2 = z) of an interior node.
   int axis() const { return static_cast<int>(bits_ & 3u); }
   /// Split plane position along axis(), in the tree's space (world or mesh object space).

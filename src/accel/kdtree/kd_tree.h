@@ -186,24 +186,35 @@ bool KdTree::traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) c
       // ray starting on the plane at t0 = 0 visits both sides.
       const double tPlane = (split - o) * invD[axis];
       const double slack = std::fabs(tPlane) * kSlack;
+      const double tLo = tPlane - slack, tHi = tPlane + slack;
       const uint32_t nearChild = below + dirNegative[axis];
       const uint32_t farChild = above - dirNegative[axis];
-      if (!(tPlane + slack >= t0)) {
-        nodeIndex = farChild; // the cell starts beyond the plane (or NaN: keep one side)
-      } else if (!(tPlane - slack <= t1)) {
-        nodeIndex = nearChild; // the cell ends before the plane
-      } else {
-        stack[top++] = {farChild, std::max(t0, tPlane - slack), t1};
+      // The near side unless the cell starts beyond the plane; the far side
+      // unless the cell ends before it (a NaN tPlane keeps the far side).
+      const bool nearNeeded = tHi >= t0;
+      const bool farNeeded = !nearNeeded || tLo <= t1;
+      // The children sit side by side (one cache line): empty leaves among
+      // them are skipped without a visit or a stack entry.
+      const bool nearEmpty = nodes_[nearChild].isEmptyLeaf();
+      const bool farEmpty = nodes_[farChild].isEmptyLeaf();
+      if (nearNeeded && !nearEmpty) {
+        if (farNeeded && !farEmpty) stack[top++] = {farChild, std::max(t0, tLo), t1};
         nodeIndex = nearChild;
-        t1 = std::min(t1, tPlane + slack);
+        t1 = std::min(t1, tHi);
+        continue;
       }
-      continue;
-    }
-
-    const uint32_t count = node.primCount();
-    if (count > 0 && testLeaf(node.primOffset(), count, tMax)) {
-      hit = true;
-      if (AnyHit) return true;
+      if (farNeeded && !farEmpty) {
+        nodeIndex = farChild;
+        t0 = std::max(t0, tLo);
+        continue;
+      }
+      // Nothing below this node: next cell from the stack.
+    } else {
+      const uint32_t count = node.primCount();
+      if (count > 0 && testLeaf(node.primOffset(), count, tMax)) {
+        hit = true;
+        if (AnyHit) return true;
+      }
     }
     if (top == 0) break;
     --top;

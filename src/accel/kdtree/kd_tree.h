@@ -53,8 +53,9 @@ public:
   KdTree() = default;
 
   /// Builds over primitives with the given bounds (in the tree's space);
-  /// primitives with empty or non-finite bounds are left out. O(N log N)
-  /// event-sweep SAH build (Wald & Havran 2006), parallel with TBB.
+  /// primitives with empty or non-finite bounds are left out. SAH build in
+  /// O(N log N): binned planes for large nodes, sorted events swept exactly
+  /// (Wald & Havran 2006) for small ones; parallel with TBB.
   static KdTree build(std::span<const Bounds3> primBounds, const KdClipFunction &clip,
                       const KdBuildOptions &options = {});
 

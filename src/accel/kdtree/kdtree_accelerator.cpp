@@ -53,11 +53,12 @@ KdTree buildMeshTree(const MeshData &mesh) {
   // Triangle trees stop splitting earlier than the model's defaults: on a
   // 250k-triangle mesh, traversal cost 60 (vs 15) gave the same camera-ray
   // throughput with 5x fewer nodes and half the build time (bench_kdtree).
-  // Trees of big meshes outgrow the caches, so a step down the tree costs
-  // more still: 120 there gave the same rays/s on 1M triangles with a
-  // cheaper build (small meshes lose about 10 % with it).
+  // A step down the tree costs more as the tree outgrows the caches: 30
+  // was best below a few thousand triangles (100 triangles: 15-25 % more
+  // rays/s than 60), 120 above 2^18 (1M triangles: the same rays/s as 60
+  // with 2.5x fewer nodes and a faster build).
   KdBuildOptions options;
-  options.cost.traversalCost = n >= (size_t{1} << 18) ? 120 : 60;
+  options.cost.traversalCost = n < 4096 ? 30 : n < (size_t{1} << 18) ? 60 : 120;
   return KdTree::build(
       bounds,
       [&mesh](uint32_t i, const Bounds3 &box) {

@@ -74,7 +74,8 @@ Bounds3 clipTriangleToBox(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Bou
     }
   }
   Bounds3 result;
-  for (int i = 0; i < poly->n; ++i) result.extend(Vec3(poly->p[i][0], poly->p[i][1], poly->p[i][2]));
+  for (int i = 0; i < poly->n; ++i)
+    result.extend(Vec3(poly->p[i][0], poly->p[i][1], poly->p[i][2]));
   if (result.empty()) return result;
   result.lo = max(result.lo, box.lo);
   result.hi = min(result.hi, box.hi);

@@ -53,8 +53,9 @@ public:
   KdTree() = default;
 
   /// Builds over primitives with the given bounds (in the tree's space);
-  /// primitives with empty or non-finite bounds are left out. O(N log N)
-  /// event-sweep SAH build (Wald & Havran 2006), parallel with TBB.
+  /// primitives with empty or non-finite bounds are left out. SAH build in
+  /// O(N log N): binned planes for large nodes, sorted events swept exactly
+  /// (Wald & Havran 2006) for small ones; parallel with TBB.
   static KdTree build(std::span<const Bounds3> primBounds, const KdClipFunction &clip,
                       const KdBuildOptions &options = {});
 
@@ -66,6 +67,13 @@ public:
   /// Returns whether the callback reported a hit. Ray in the tree's space.
   template <bool AnyHit, class PrimTest>
   bool traverse(const Ray &ray, double &tMax, PrimTest &&test) const;
+
+  /// The same walk, one call per non-empty leaf:
+  /// `bool testLeaf(uint32_t offset, uint32_t count, double &tMax)` tests the
+  /// leaf's references primIndices()[offset .. offset + count) (and any data
+  /// the caller keeps in that order) as `test` above does one primitive.
+  template <bool AnyHit, class LeafTest>
+  bool traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) const;
 
   /// Bounds of all primitives (rounded outwards to float), tree space.
   const Bounds3 &bounds() const { return bounds_; }
@@ -79,10 +87,11 @@ public:
   const std::vector<KdNode> &nodes() const { return nodes_; }
   /// Primitives of a leaf (for tests).
   std::vector<uint32_t> leafPrims(const KdNode &leaf) const {
-    if (leaf.primCount() == 1) return {leaf.primRef()};
-    auto first = primIndices_.begin() + leaf.primRef();
+    auto first = primIndices_.begin() + leaf.primOffset();
     return {first, first + leaf.primCount()};
   }
+  /// The leaves' primitive lists, one after another (leaf order).
+  std::span<const uint32_t> primIndices() const { return primIndices_; }
 
 private:
   friend class KdTreeBuilder;
@@ -100,6 +109,21 @@ private:
 
 template <bool AnyHit, class PrimTest>
 bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
+  return traverseLeaves<AnyHit>(ray, tMax, [&](uint32_t offset, uint32_t count, double &tBest) {
+    const uint32_t *prims = primIndices_.data() + offset;
+    bool hit = false;
+    for (uint32_t i = 0; i < count; ++i) {
+      if (test(prims[i], tBest)) {
+        hit = true;
+        if (AnyHit) return true;
+      }
+    }
+    return hit;
+  });
+}
+
+template <bool AnyHit, class LeafTest>
+bool KdTree::traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) const {
   if (nodes_.empty()) return false;
 
   // Ray against the root box (slab test). An axis the ray is parallel to only
@@ -110,9 +134,11 @@ bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
   const double org[3] = {ray.o.x, ray.o.y, ray.o.z};
   const double dir[3] = {ray.d.x, ray.d.y, ray.d.z};
   double invD[3];
+  uint32_t dirNegative[3];
   for (int a = 0; a < 3; ++a) {
     double d = dir[a], o = org[a];
     invD[a] = 1.0 / d;
+    dirNegative[a] = d < 0 ? 1 : 0;
     if (d == 0) {
       if (o < bounds_.lo[a] || o > bounds_.hi[a]) return false;
       continue;
@@ -155,42 +181,40 @@ bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
         }
         continue;
       }
-      // The sign of split - o is exact, so a ray leaving the plane (or
-      // starting on it) is never sent to the side it does not enter.
-      double tPlane = (split - o) * invD[axis];
-      bool belowFirst = o < split || (o == split && dir[axis] <= 0);
-      uint32_t first = belowFirst ? below : above;
-      uint32_t second = belowFirst ? above : below;
-      if (tPlane <= 0) {
-        nodeIndex = first;
+      // The near child holds the ray's line before the plane (t < tPlane),
+      // the far child after it. The sign of split - o is exact, so a plane
+      // behind the origin (tPlane < 0) is never widened to reach t >= 0; a
+      // ray starting on the plane at t0 = 0 visits both sides.
+      const double tPlane = (split - o) * invD[axis];
+      const double slack = std::fabs(tPlane) * kSlack;
+      const double tLo = tPlane - slack, tHi = tPlane + slack;
+      const uint32_t nearChild = below + dirNegative[axis];
+      const uint32_t farChild = above - dirNegative[axis];
+      // The near side unless the cell starts beyond the plane; the far side
+      // unless the cell ends before it (a NaN tPlane keeps the far side).
+      const bool nearNeeded = tHi >= t0;
+      const bool farNeeded = !nearNeeded || tLo <= t1;
+      // The children sit side by side (one cache line): empty leaves among
+      // them are skipped without a visit or a stack entry.
+      const bool nearEmpty = nodes_[nearChild].isEmptyLeaf();
+      const bool farEmpty = nodes_[farChild].isEmptyLeaf();
+      if (nearNeeded && !nearEmpty) {
+        if (farNeeded && !farEmpty) stack[top++] = {farChild, std::max(t0, tLo), t1};
+        nodeIndex = nearChild;
+        t1 = std::min(t1, tHi);
         continue;
       }
-      double tPlaneLo = tPlane * (1 - kSlack), tPlaneHi = tPlane * (1 + kSlack);
-      bool visitFirst = tPlaneHi >= t0;
-      bool visitSecond = tPlaneLo <= t1;
-      if (visitFirst && visitSecond) {
-        stack[top++] = {second, std::max(t0, tPlaneLo), t1};
-        nodeIndex = first;
-        t1 = std::min(t1, tPlaneHi);
-      } else {
-        nodeIndex = visitFirst ? first : second;
+      if (farNeeded && !farEmpty) {
+        nodeIndex = farChild;
+        t0 = std::max(t0, tLo);
+        continue;
       }
-      continue;
-    }
-
-    uint32_t count = node.primCount();
-    if (count == 1) {
-      if (test(node.primRef(), tMax)) {
+      // Nothing below this node: next cell from the stack.
+    } else {
+      const uint32_t count = node.primCount();
+      if (count > 0 && testLeaf(node.primOffset(), count, tMax)) {
         hit = true;
         if (AnyHit) return true;
-      }
-    } else {
-      const uint32_t *prims = primIndices_.data() + node.primRef();
-      for (uint32_t i = 0; i < count; ++i) {
-        if (test(prims[i], tMax)) {
-          hit = true;
-          if (AnyHit) return true;
-        }
       }
     }
     if (top == 0) break;

@@ -41,9 +41,16 @@ public:
 private:
   static constexpr uint32_t kAnalytic = ~0u;
 
+  /// A triangle's corners copied out of the mesh, one per leaf reference in
+  /// the tree's leaf order: a leaf's triangles are read from one contiguous
+  /// run instead of through the index and position arrays.
+  struct LeafTriangle {
+    Vec3f p[3];
+  };
   struct MeshTree {
     const MeshData *mesh = nullptr;
     KdTree tree;
+    std::vector<LeafTriangle> leafTriangles; ///< parallel to tree.primIndices()
   };
   /// One top-level primitive: an entity and, for meshes, how to reach its tree.
   struct Instance {

@@ -10,33 +10,30 @@
 #include "math/vec3.h"
 
 #include <cmath>
-#include <utility>
 
 namespace lray {
 
 /// A ray prepared for the watertight test: the axis along which it moves
-/// most becomes z (kz); kx, ky are the other two in an order that keeps the
-/// triangle's winding; (sx, sy, sz) shear the ray direction onto (0, 0, 1).
-/// The permutation and shear are stored as three rows, so a vertex v maps to
-/// (dot(rowX, v), dot(rowY, v), dot(rowZ, v)) without branches: each row has
-/// one or two non-zero entries (1 and -s), so the dot product rounds exactly
-/// as v[kx] - sx * v[kz] does.
+/// most becomes z (kz), kx and ky follow cyclically; (sx, sy, sz) shear the
+/// ray direction onto (0, 0, 1), so a vertex v relative to the origin maps
+/// to (v[kx] - sx v[kz], v[ky] - sy v[kz], sz v[kz]). (The paper swaps kx
+/// and ky for rays along -kz to keep the winding; that only negates all
+/// three edge functions exactly, and both facings are hit here, so t and
+/// the barycentrics are the same without it.)
 struct WatertightRay {
-  Vec3 o;
-  Vec3 rowX, rowY, rowZ;
+  double o[3];
+  int kx, ky, kz;
+  double sx, sy, sz;
   double tMin = 0;
 
-  explicit WatertightRay(const Ray &ray) : o(ray.o), tMin(ray.tMin) {
+  explicit WatertightRay(const Ray &ray) : o{ray.o.x, ray.o.y, ray.o.z}, tMin(ray.tMin) {
     Vec3 ad = abs(ray.d);
-    int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    int kx = (kz + 1) % 3;
-    int ky = (kx + 1) % 3;
-    if (ray.d[kz] < 0) std::swap(kx, ky);
-    rowX[kx] = 1;
-    rowX[kz] = -(ray.d[kx] / ray.d[kz]);
-    rowY[ky] = 1;
-    rowY[kz] = -(ray.d[ky] / ray.d[kz]);
-    rowZ[kz] = 1.0 / ray.d[kz];
+    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    sx = ray.d[kx] / ray.d[kz];
+    sy = ray.d[ky] / ray.d[kz];
+    sz = 1.0 / ray.d[kz];
   }
 };
 
@@ -45,16 +42,40 @@ struct TriangleHitParams {
   double t = 0, b1 = 0, b2 = 0;
 };
 
-/// Watertight intersection of the ray with triangle (p0, p1, p2), both in the
-/// same space, for t in (ray.tMin, tMax). Either facing is hit; a triangle
-/// seen exactly edge-on is missed.
-inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Vec3 &p1,
-                              const Vec3 &p2, double tMax, TriangleHitParams &out) {
+/// The end of the test for a triangle whose edge functions e0, e1, e2 agree
+/// in sign; akz, bkz, ckz are its corners' kz components relative to the
+/// ray origin.
+inline bool finishTriangle(const WatertightRay &ray, double e0, double e1, double e2, double akz,
+                           double bkz, double ckz, double tMax, TriangleHitParams &out) {
+  const double det = e0 + e1 + e2;
+  if (det == 0) return false;
+  // Scaled hit distance, compared before dividing.
+  const double az = ray.sz * akz, bz = ray.sz * bkz, cz = ray.sz * ckz;
+  const double tScaled = e0 * az + e1 * bz + e2 * cz;
+  const double invDet = 1.0 / det;
+  const double t = tScaled * invDet;
+  if (!(t > ray.tMin && t < tMax)) return false;
+  out.t = t;
+  out.b1 = e1 * invDet;
+  out.b2 = e2 * invDet;
+  return true;
+}
+
+namespace detail {
+
+/// The test with the ray's axis kz known at compile time (the permutation
+/// then costs nothing); `ray.kz` must equal Kz.
+template <int Kz, class Point>
+inline bool intersectTriangleCorners(const WatertightRay &ray, const Point &p0, const Point &p1,
+                                     const Point &p2, double tMax, TriangleHitParams &out) {
   // Vertices relative to the origin, then sheared so the ray runs along +z.
-  const Vec3 a = p0 - ray.o, b = p1 - ray.o, c = p2 - ray.o;
-  const double ax = dot(ray.rowX, a), ay = dot(ray.rowY, a);
-  const double bx = dot(ray.rowX, b), by = dot(ray.rowY, b);
-  const double cx = dot(ray.rowX, c), cy = dot(ray.rowY, c);
+  const double a[3] = {p0.x - ray.o[0], p0.y - ray.o[1], p0.z - ray.o[2]};
+  const double b[3] = {p1.x - ray.o[0], p1.y - ray.o[1], p1.z - ray.o[2]};
+  const double c[3] = {p2.x - ray.o[0], p2.y - ray.o[1], p2.z - ray.o[2]};
+  constexpr int kz = Kz, kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
+  const double ax = a[kx] - ray.sx * a[kz], ay = a[ky] - ray.sy * a[kz];
+  const double bx = b[kx] - ray.sx * b[kz], by = b[ky] - ray.sy * b[kz];
+  const double cx = c[kx] - ray.sx * c[kz], cy = c[ky] - ray.sy * c[kz];
 
   // Edge functions: e0 for edge p1-p2 (weight of p0), e1 for p2-p0, e2 for p0-p1.
   double e0 = cx * by - cy * bx;
@@ -69,18 +90,92 @@ inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Ve
   if (e1 == 0) e1 = static_cast<double>(Wide(ax) * Wide(cy) - Wide(ay) * Wide(cx));
   if (e2 == 0) e2 = static_cast<double>(Wide(bx) * Wide(ay) - Wide(by) * Wide(ax));
   if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
-  const double det = e0 + e1 + e2;
-  if (det == 0) return false;
+  return finishTriangle(ray, e0, e1, e2, a[kz], b[kz], c[kz], tMax, out);
+}
 
-  // Scaled hit distance, compared before dividing.
-  const double az = dot(ray.rowZ, a), bz = dot(ray.rowZ, b), cz = dot(ray.rowZ, c);
-  const double tScaled = e0 * az + e1 * bz + e2 * cz;
-  const double invDet = 1.0 / det;
-  const double t = tScaled * invDet;
-  if (!(t > ray.tMin && t < tMax)) return false;
-  out.t = t;
-  out.b1 = e1 * invDet;
-  out.b2 = e2 * invDet;
+template <int K> inline float component(const Vec3f &v) {
+  if constexpr (K == 0) return v.x;
+  else if constexpr (K == 1) return v.y;
+  else return v.z;
+}
+
+} // namespace detail
+
+/// Watertight intersection of the ray with triangle (p0, p1, p2), both in the
+/// same space, for t in (ray.tMin, tMax). Either facing is hit; a triangle
+/// seen exactly edge-on is missed.
+inline bool intersectTriangle(const WatertightRay &ray, const Vec3 &p0, const Vec3 &p1,
+                              const Vec3 &p2, double tMax, TriangleHitParams &out) {
+  switch (ray.kz) {
+  case 0: return detail::intersectTriangleCorners<0>(ray, p0, p1, p2, tMax, out);
+  case 1: return detail::intersectTriangleCorners<1>(ray, p0, p1, p2, tMax, out);
+  default: return detail::intersectTriangleCorners<2>(ray, p0, p1, p2, tMax, out);
+  }
+}
+
+/// The same for a mesh's float corners (the same result as their Vec3
+/// values), with the ray's axis fixed at compile time: callers dispatch on
+/// ray.kz once per ray, not once per triangle.
+template <int Kz>
+inline bool intersectFloatTriangle(const WatertightRay &ray, const Vec3f &p0, const Vec3f &p1,
+                                   const Vec3f &p2, double tMax, TriangleHitParams &out) {
+  return detail::intersectTriangleCorners<Kz>(ray, p0, p1, p2, tMax, out);
+}
+
+} // namespace lray
+
+namespace lray {
+
+/// Edge functions of two triangles computed side by side (two SIMD lanes);
+/// `pass[i]`: triangle i's edge functions agree in sign, and
+/// finishTriangle(ray, e0[i], e1[i], e2[i], akz[i], bkz[i], ckz[i], ...)
+/// completes its test.
+struct TrianglePairEdges {
+  double e0[2], e1[2], e2[2], akz[2], bkz[2], ckz[2];
+  bool pass[2];
+};
+
+/// The first half of intersectFloatTriangle<Kz> for triangles tri0[0..2] and
+/// tri1[0..2] at once: each lane performs exactly the single test's
+/// operations, so results never depend on which path tested a triangle.
+/// Returns false, computing nothing, when an edge function is zero in either
+/// lane: the single test, with its wider-precision recomputation, decides those.
+template <int Kz>
+inline bool triangleEdgesPair(const WatertightRay &ray, const Vec3f *tri0, const Vec3f *tri1,
+                              TrianglePairEdges &out) {
+  using Double2 = double __attribute__((vector_size(16)));
+  constexpr int kz = Kz, kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
+  using detail::component;
+  const Double2 ox = {ray.o[kx], ray.o[kx]}, oy = {ray.o[ky], ray.o[ky]},
+                oz = {ray.o[kz], ray.o[kz]};
+  const Double2 sx = {ray.sx, ray.sx}, sy = {ray.sy, ray.sy};
+  const Double2 akx = Double2{component<kx>(tri0[0]), component<kx>(tri1[0])} - ox;
+  const Double2 aky = Double2{component<ky>(tri0[0]), component<ky>(tri1[0])} - oy;
+  const Double2 akz = Double2{component<kz>(tri0[0]), component<kz>(tri1[0])} - oz;
+  const Double2 bkx = Double2{component<kx>(tri0[1]), component<kx>(tri1[1])} - ox;
+  const Double2 bky = Double2{component<ky>(tri0[1]), component<ky>(tri1[1])} - oy;
+  const Double2 bkz = Double2{component<kz>(tri0[1]), component<kz>(tri1[1])} - oz;
+  const Double2 ckx = Double2{component<kx>(tri0[2]), component<kx>(tri1[2])} - ox;
+  const Double2 cky = Double2{component<ky>(tri0[2]), component<ky>(tri1[2])} - oy;
+  const Double2 ckz = Double2{component<kz>(tri0[2]), component<kz>(tri1[2])} - oz;
+  const Double2 ax = akx - sx * akz, ay = aky - sy * akz;
+  const Double2 bx = bkx - sx * bkz, by = bky - sy * bkz;
+  const Double2 cx = ckx - sx * ckz, cy = cky - sy * ckz;
+  const Double2 e0 = cx * by - cy * bx;
+  const Double2 e1 = ax * cy - ay * cx;
+  const Double2 e2 = bx * ay - by * ax;
+  const auto zero = (e0 == 0) | (e1 == 0) | (e2 == 0);
+  if (zero[0] | zero[1]) return false;
+  const auto miss = ((e0 < 0) | (e1 < 0) | (e2 < 0)) & ((e0 > 0) | (e1 > 0) | (e2 > 0));
+  for (int i = 0; i < 2; ++i) {
+    out.pass[i] = miss[i] == 0;
+    out.e0[i] = e0[i];
+    out.e1[i] = e1[i];
+    out.e2[i] = e2[i];
+    out.akz[i] = akz[i];
+    out.bkz[i] = bkz[i];
+    out.ckz[i] = ckz[i];
+  }
   return true;
 }
 

@@ -58,6 +58,7 @@ Scene sphereScene(size_t n) {
 
 struct RayFigures {
   double build = 0, memoryMB = 0, primary = 0, shadow = 0, secondary = 0; // rays/s in millions
+  double primarySingle = 0; ///< the same camera rays one at a time (intersect)
   size_t hits = 0;
 };
 
@@ -86,6 +87,16 @@ RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) 
     accel->intersectCoherent(&rays[i], n, &hits[i], &found[i]);
   }
   f.primary = count / (now() - t0) / 1e6;
+  // Issue 6 compares the kd-tree with Embree's single-ray traversal: the
+  // same camera rays again, one intersect() each.
+  {
+    Hit h;
+    size_t n = 0;
+    t0 = now();
+    for (const Ray &r : rays) n += accel->intersect(r, h);
+    f.primarySingle = count / (now() - t0) / 1e6;
+    if (n == size_t(-1)) std::cout << "";
+  }
 
   std::vector<Ray> shadowRays, secondaryRays;
   Vec3 light{-30, 40, -30};
@@ -127,10 +138,10 @@ int main(int argc, char **argv) {
   std::ofstream md(outDir / "backends.md");
   std::ofstream dat(outDir / "backends.dat");
   md << "## Scaling series (one thread, 320x240 rays)\n\n"
-        "| scene | N | backend | build s | memory MB | primary Mrays/s | shadow Mrays/s | "
-        "secondary Mrays/s |\n|---|---|---|---|---|---|---|---|\n";
+        "| scene | N | backend | build s | memory MB | primary Mrays/s | primary single Mrays/s | "
+        "shadow Mrays/s | secondary Mrays/s |\n|---|---|---|---|---|---|---|---|---|\n";
   dat << "# kind N embree_build kd_build embree_mem kd_mem embree_primary kd_primary embree_shadow "
-         "kd_shadow embree_secondary kd_secondary\n";
+         "kd_shadow embree_secondary kd_secondary embree_primary_single kd_primary_single\n";
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
       Scene scene = std::string(kind) == "spheres" ? sphereScene(n) : bench::makeBumpySphereScene(n);
@@ -138,19 +149,21 @@ int main(int argc, char **argv) {
       for (int b = 0; b < 2; ++b) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;
         fig[b] = measure(scene, backend, 320, 240);
-        md << fmt::format("| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} |\n", kind, n,
-                          backendName(backend), fig[b].build, fig[b].memoryMB, fig[b].primary,
-                          fig[b].shadow, fig[b].secondary);
+        md << fmt::format("| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} |\n",
+                          kind, n, backendName(backend), fig[b].build, fig[b].memoryMB,
+                          fig[b].primary, fig[b].primarySingle, fig[b].shadow, fig[b].secondary);
         std::cout << kind << " " << n << " " << backendName(backend) << " build " << fig[b].build
                   << " s, primary " << fig[b].primary << " Mrays/s" << std::endl;
       }
-      md << fmt::format("| {} | {} | kd/embree | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x |\n",
-                        kind, n, fig[1].build / fig[0].build, fig[1].memoryMB / fig[0].memoryMB,
-                        fig[1].primary / fig[0].primary, fig[1].shadow / fig[0].shadow,
-                        fig[1].secondary / fig[0].secondary);
-      dat << fmt::format("{} {} {} {} {} {} {} {} {} {} {} {}\n", kind, n, fig[0].build, fig[1].build,
-                         fig[0].memoryMB, fig[1].memoryMB, fig[0].primary, fig[1].primary,
-                         fig[0].shadow, fig[1].shadow, fig[0].secondary, fig[1].secondary);
+      md << fmt::format(
+          "| {} | {} | kd/embree | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x |\n", kind,
+          n, fig[1].build / fig[0].build, fig[1].memoryMB / fig[0].memoryMB,
+          fig[1].primary / fig[0].primary, fig[1].primarySingle / fig[0].primarySingle,
+          fig[1].shadow / fig[0].shadow, fig[1].secondary / fig[0].secondary);
+      dat << fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", kind, n, fig[0].build,
+                         fig[1].build, fig[0].memoryMB, fig[1].memoryMB, fig[0].primary,
+                         fig[1].primary, fig[0].shadow, fig[1].shadow, fig[0].secondary,
+                         fig[1].secondary, fig[0].primarySingle, fig[1].primarySingle);
     }
   }
 

@@ -52,18 +52,32 @@ inline double maxAbsComponent(const Vec3 &v) {
 /// The rule above. `pObject` and `pWorld` are the hit point in both spaces;
 /// `shapeScale` the object-space size of the primitive (1 for the unit
 /// analytic shapes, the largest vertex coordinate for a triangle).
-/// The rule from the magnitudes: `objectMagnitude` = |pObject|,
+/// The norms a transform contributes to the rule (Transform caches them):
+/// infinity norms of the linear parts of M and M^-1, largest translation
+/// components of both.
+struct TransformNorms {
+  double linear, inverseLinear, translation, inverseTranslation;
+};
+
+/// The rule from norms and magnitudes: `objectMagnitude` = |pObject|,
 /// `worldMagnitude` = |pWorld| (largest absolute components).
+inline double hitPointErrorFromNorms(const TransformNorms &n, double objectMagnitude,
+                                     double worldMagnitude, double shapeScale, double eps,
+                                     double k) {
+  double eObject = k * eps *
+                   (objectMagnitude + shapeScale + n.inverseLinear * worldMagnitude +
+                    n.inverseTranslation);
+  return eObject * n.linear + k * eps * (worldMagnitude + n.translation);
+}
+
+/// The rule with the transform's cached norms (math/transform.h).
 inline double hitPointErrorFromMagnitudes(const Transform &worldFromObject,
                                           double objectMagnitude, double worldMagnitude,
                                           double shapeScale, double eps, double k) {
-  // The norms are the transform's cached ones (math/transform.h).
-  double eObject = k * eps *
-                   (objectMagnitude + shapeScale +
-                    worldFromObject.inverseLinearNorm() * worldMagnitude +
-                    worldFromObject.inverseTranslationNorm());
-  return eObject * worldFromObject.linearNorm() +
-         k * eps * (worldMagnitude + worldFromObject.translationNorm());
+  return hitPointErrorFromNorms({worldFromObject.linearNorm(), worldFromObject.inverseLinearNorm(),
+                                 worldFromObject.translationNorm(),
+                                 worldFromObject.inverseTranslationNorm()},
+                                objectMagnitude, worldMagnitude, shapeScale, eps, k);
 }
 
 inline double hitPointError(const Transform &worldFromObject, const Vec3 &pObject,

@@ -21,11 +21,7 @@ Bounds3 sceneBounds(const Scene &scene) {
       if (!e.mesh) continue;
       auto [it, added] = meshBoxes.try_emplace(e.mesh.get());
       if (added) it->second = meshObjectBounds(*e.mesh);
-      const Bounds3 &o = it->second;
-      if (o.empty()) continue;
-      for (int i = 0; i < 8; ++i)
-        b.extend(e.worldFromObject.applyPoint(
-            {i & 1 ? o.hi.x : o.lo.x, i & 2 ? o.hi.y : o.lo.y, i & 4 ? o.hi.z : o.lo.z}));
+      b = transformedBounds(it->second, e.worldFromObject);
     } else {
       b = shapeWorldBounds(e);
     }

@@ -200,6 +200,17 @@ Bounds3 shapeWorldBounds(const Entity &entity) {
   return padded(b);
 }
 
+Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromObject) {
+  if (objectBox.empty()) return objectBox;
+  const Bounds3 &o = objectBox;
+  Bounds3 world;
+  for (int i = 0; i < 8; ++i)
+    world.extend(worldFromObject.applyPoint(
+        {i & 1 ? o.hi.x : o.lo.x, i & 2 ? o.hi.y : o.lo.y, i & 4 ? o.hi.z : o.lo.z}));
+  Vec3 pad = (abs(world.lo) + abs(world.hi)) * 1e-14;
+  return {world.lo - pad, world.hi + pad};
+}
+
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
   Ray farRay = objectRay(entity, worldRay);
   double shift = farOriginShift(entity.kind, farRay);

@@ -26,6 +26,11 @@ bool occludedShape(const Entity &entity, const Ray &worldRay);
 /// Object-space bounds of a mesh (positions as stored).
 Bounds3 meshObjectBounds(const MeshData &mesh);
 
+/// World bounds of an object-space box placed by `worldFromObject`: its
+/// eight corners transformed, widened by a few ulps for the rounding of the
+/// transform. An empty box stays empty.
+Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromObject);
+
 /// Fills `hit` for triangle `triangle` of mesh entity `entity` hit at
 /// parameter t of the world ray, with barycentrics (b1, b2) of corners 1 and 2
 /// (corner 0 has 1 - b1 - b2): interpolated normals when smooth, uvs

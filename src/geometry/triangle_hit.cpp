@@ -24,26 +24,24 @@ Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 double floatFrameError(const Transform &xf, const Vec3 &pObject, const Vec3 &p, double scale,
                        const Vec3 &frameOrigin, const Vec3 &p0, const Vec3 &p1,
                        const Vec3 &p2) {
-  const double k = kTriangleErrorFactor * kFloatRoundoff;
-  const Vec3 pRel = p - frameOrigin;
+  const double pw = maxAbsComponent(p - frameOrigin);
   if (xf.isIdentity()) {
     // The backend's vertices are float(v - origin), its ray origins
-    // float(o - origin).
+    // float(o - origin): the rule for an identity transform in that frame.
     double relScale =
         std::max(maxAbsComponent(p0 - frameOrigin),
                  std::max(maxAbsComponent(p1 - frameOrigin), maxAbsComponent(p2 - frameOrigin)));
-    return k * (relScale + 3 * maxAbsComponent(pRel));
+    return hitPointErrorFromNorms({1, 1, 0, 0}, pw, pw, relScale, kFloatRoundoff,
+                                  kTriangleErrorFactor);
   }
-  // hitPointError's terms for Translate(-origin) * worldFromObject: the
-  // translation becomes t - origin, the inverse's becomes inverse(origin).
+  // The rule for Translate(-origin) * worldFromObject: the translation
+  // becomes t - origin, the inverse's becomes inverse(origin).
   const auto &m = xf.matrix().m;
-  const double rowNorm = xf.linearNorm(), invNorm = xf.inverseLinearNorm();
-  Vec3 t(m[0][3], m[1][3], m[2][3]);
-  double tM = maxAbsComponent(t - frameOrigin);
-  double tInv = maxAbsComponent(affinePoint(xf.inverseMatrix(), frameOrigin));
-  double pw = maxAbsComponent(pRel);
-  double eObject = k * (maxAbsComponent(pObject) + scale + invNorm * pw + tInv);
-  return eObject * rowNorm + k * (pw + tM);
+  TransformNorms n{xf.linearNorm(), xf.inverseLinearNorm(),
+                   maxAbsComponent(Vec3(m[0][3], m[1][3], m[2][3]) - frameOrigin),
+                   maxAbsComponent(affinePoint(xf.inverseMatrix(), frameOrigin))};
+  return hitPointErrorFromNorms(n, maxAbsComponent(pObject), pw, scale, kFloatRoundoff,
+                                kTriangleErrorFactor);
 }
 
 } // namespace

@@ -69,20 +69,6 @@ KdTree buildMeshTree(const MeshData &mesh) {
       options);
 }
 
-// World bounds of a mesh instance: its object box's corners transformed,
-// widened by a few ulps for the rounding of the transform.
-Bounds3 instanceWorldBounds(const MeshData &mesh, const Transform &worldFromObject) {
-  Bounds3 object = meshObjectBounds(mesh);
-  if (object.empty()) return object;
-  Bounds3 world;
-  for (int i = 0; i < 8; ++i)
-    world.extend(worldFromObject.applyPoint({i & 1 ? object.hi.x : object.lo.x,
-                                             i & 2 ? object.hi.y : object.lo.y,
-                                             i & 4 ? object.hi.z : object.lo.z}));
-  Vec3 pad = (abs(world.lo) + abs(world.hi)) * 1e-14;
-  return {world.lo - pad, world.hi + pad};
-}
-
 } // namespace
 
 KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
@@ -104,7 +90,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
       inst.meshTree = it->second;
       inst.identity = e.worldFromObject.isIdentity();
       inst.objectFromWorld = e.worldFromObject.inverse();
-      topBounds.push_back(instanceWorldBounds(*e.mesh, e.worldFromObject));
+      topBounds.push_back(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
       ++stats_.instances;
     } else {
       topBounds.push_back(shapeWorldBounds(e));

@@ -117,7 +117,8 @@ TEST(FillTriangleHit, ErrorBoundFollowsTheFloatFrame) {
   Entity instance = meshEntity(local, Transform::translate({1e5, 1e5, 1e5}));
   Hit instWorld, instFramed;
   fillTriangleHit(instance, 0, 0, 5.0, 0.25, 0.25, down, kWorldOrigin, instWorld);
-  fillTriangleHit(instance, 0, 0, 5.0, 0.25, 0.25, down, Vec3(1e5, 1e5 + 4, 1e5 - 6), instFramed);
+  fillTriangleHit(instance, 0, 0, 5.0, 0.25, 0.25, down, Vec3(1e5, 1e5 + 4, 1e5 - 6),
+                  instFramed);
   EXPECT_GT(instWorld.pError, 1e-2);
   EXPECT_LT(instFramed.pError, 1e-5);
 }
@@ -126,7 +127,8 @@ TEST(FloatFrameOrigin, TheEyeRoundedToFloatOnlyFarFromTheOrigin) {
   Scene scene;
   scene.camera.worldFromCamera = Transform::translate({3, 500, -1000});
   EXPECT_EQ(floatFrameOrigin(scene), Vec3(0, 0, 0));
-  scene.camera.worldFromCamera = Transform::translate({0.1, 1e5 + 0.3, 0}) * Transform::rotate({0, 1, 0}, 30);
+  scene.camera.worldFromCamera =
+      Transform::translate({0.1, 1e5 + 0.3, 0}) * Transform::rotate({0, 1, 0}, 30);
   Vec3 f = floatFrameOrigin(scene); // no entities: the eye
   EXPECT_EQ(f, Vec3(double(0.1f), double(1e5f + 0.3f), 0));
   EXPECT_EQ(f.y, double(static_cast<float>(f.y)));
@@ -150,7 +152,8 @@ TEST(FloatFrameOrigin, TheSceneBoxPointNearestTheEye) {
   EXPECT_NEAR(f.y, 1e5, 0.01);
   EXPECT_NEAR(f.z, 1e5 - 1, 0.01);
   // An eye inside the scene's box (a camera in a large scene): the eye.
-  scene.entities[0].worldFromObject = Transform::translate({1e5, 1e5, 1e5}) * Transform::scale(100, 100, 100);
+  scene.entities[0].worldFromObject =
+      Transform::translate({1e5, 1e5, 1e5}) * Transform::scale(100, 100, 100);
   scene.camera.worldFromCamera = Transform::translate({1e5 + 3, 1e5 + 4, 1e5 - 5});
   EXPECT_EQ(floatFrameOrigin(scene), Vec3(1e5 + 3, 1e5 + 4, 1e5 - 5));
 }

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -208,32 +209,27 @@ void EmbreeAccelerator::build() {
   // them relative to the float frame (`inFrame`: an untransformed mesh of a
   // scene far from the world origin).
   size_t ownedBytes = 0;
-  std::unordered_map<const MeshData *, const Vec3f *> framed;
+  std::map<std::pair<const MeshData *, bool>, const Vec3f *> copies;
   auto triangleGeometry = [&](const MeshData &mesh, bool inFrame) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads 16 bytes at each vertex: the buffer must extend 4 bytes
     // past the last Vec3f. Use the vector's spare capacity if it has some,
-    // else copy once.
+    // else copy once (the framed copy is made with the padding too).
     const Vec3f *positions = mesh.positions.data();
-    if (inFrame) {
-      const Vec3f *&copy = framed[&mesh];
+    if (inFrame || mesh.positions.capacity() == mesh.positions.size()) {
+      const Vec3f *&copy = copies[{&mesh, inFrame}];
       if (!copy) {
         auto &buffer = paddedPositions_.emplace_back(mesh.positions.size() + 1);
-        const Vec3 &f = frameOrigin_;
+        const Vec3 origin = inFrame ? frameOrigin_ : Vec3(); // p - 0 is p exactly
         for (size_t i = 0; i < mesh.positions.size(); ++i) {
           const Vec3f &p = mesh.positions[i];
-          buffer[i] = {static_cast<float>(p.x - f.x), static_cast<float>(p.y - f.y),
-                       static_cast<float>(p.z - f.z)};
+          buffer[i] = {static_cast<float>(p.x - origin.x), static_cast<float>(p.y - origin.y),
+                       static_cast<float>(p.z - origin.z)};
         }
         ownedBytes += buffer.size() * sizeof(Vec3f);
         copy = buffer.data();
       }
       positions = copy;
-    } else if (mesh.positions.capacity() == mesh.positions.size()) {
-      auto &copy = paddedPositions_.emplace_back(mesh.positions.size() + 1);
-      std::copy(mesh.positions.begin(), mesh.positions.end(), copy.begin());
-      ownedBytes += copy.size() * sizeof(Vec3f);
-      positions = copy.data();
     }
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions, 0,
                                sizeof(Vec3f), mesh.positions.size());
@@ -333,13 +329,14 @@ bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   ctx.hits = &hit;
   ctx.bestT = &bestT;
   rtcIntersect1(root_, &ctx.base, &rh);
-  return finishHit(scene_, frameOrigin_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, rh.hit.u,
-                   rh.hit.v, ray, hit);
+  return finishHit(scene_, frameOrigin_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID,
+                   rh.ray.tfar, rh.hit.u, rh.hit.v, ray, hit);
 }
 
 bool EmbreeAccelerator::occluded(const Ray &ray) const {
   RTCRay r;
-  toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
+  toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear,
+           r.tfar);
   r.time = 0;
   r.mask = 0xFFFFFFFFu;
   r.id = 0;
@@ -384,8 +381,9 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       for (unsigned i = 0; i < 8; ++i) {
         valid[i] = i < pk.lanes ? -1 : 0;
         const Ray &r = rays[pk.base + (i < pk.lanes ? i : 0)];
-        toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
-                 rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+        toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i],
+                 rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i],
+                 rh.ray.tfar[i]);
         rh.ray.time[i] = 0;
         rh.ray.mask[i] = 0xFFFFFFFFu;
         rh.ray.id[i] = i;
@@ -434,8 +432,8 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     for (unsigned i = 0; i < 8; ++i) {
       valid[i] = i < lanes ? -1 : 0;
       const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, frameOrigin_, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i], r8.dir_z[i],
-               r8.tnear[i], r8.tfar[i]);
+      toEmbree(r, frameOrigin_, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i],
+               r8.dir_z[i], r8.tnear[i], r8.tfar[i]);
       r8.time[i] = 0;
       r8.mask[i] = 0xFFFFFFFFu;
       r8.id[i] = i;

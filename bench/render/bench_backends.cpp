@@ -14,6 +14,7 @@
 #include "math/random.h"
 #include "render/camera_rays.h"
 #include "render/image_writer.h"
+#include "render/renderer.h"
 #include "shading/image_cache.h"
 
 #include <fmt/format.h>
@@ -59,8 +60,21 @@ Scene sphereScene(size_t n) {
 struct RayFigures {
   double build = 0, memoryMB = 0, primary = 0, shadow = 0, secondary = 0; // rays/s in millions
   double primarySingle = 0; ///< the same camera rays one at a time (intersect)
+  double render = 0;        ///< seconds for a whole frame through the renderer (no build)
+  uint64_t renderRays = 0;  ///< rays that frame traced (camera, shadow, reflected)
   size_t hits = 0;
 };
+
+// The scaling scenes as a frame to render: one point light (the shadow rays'
+// light) and a finish with some reflection, so a frame traces primary,
+// shadow and reflected rays through the renderer's own tiles and shading.
+Scene withLightAndFinish(Scene scene) {
+  Light light;
+  light.worldFromLight = Transform::translate({-30, 40, -30});
+  scene.lights.push_back(light);
+  for (Texture &t : scene.textures) t.finish.reflection = 0.3;
+  return scene;
+}
 
 RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) {
   RayFigures f;
@@ -122,7 +136,32 @@ RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) 
     f.secondary = secondaryRays.size() / (now() - t0) / 1e6;
     if (blocked == size_t(-1)) std::cout << ""; // keep the loops from being optimised away
   }
+  // Render time: best of three frames (the build is not part of it).
+  {
+    ImageCache images(false);
+    FrameSettings settings;
+    settings.width = width;
+    settings.height = height;
+    f.render = 1e300;
+    for (int i = 0; i < 3; ++i) {
+      RayCounts counts;
+      t0 = now();
+      Film film = renderFrame(scene, *accel, images, settings, counts);
+      f.render = std::min(f.render, now() - t0);
+      f.renderRays = counts.camera + counts.shadow + counts.reflection + counts.refraction;
+    }
+  }
   return f;
+}
+
+/// Growth of a per-frame time from the smallest to the largest N of a
+/// series, next to the growth of log N over the same range.
+std::string logGrowthLine(const char *what, double tSmall, double tLarge, size_t nSmall,
+                          size_t nLarge) {
+  double growth = tLarge / tSmall;
+  double logGrowth = std::log(double(nLarge)) / std::log(double(nSmall));
+  return fmt::format("| {} | {:.2f}x | {:.2f}x | {} |\n", what, growth, logGrowth,
+                     growth <= logGrowth ? "yes" : "no");
 }
 
 } // namespace
@@ -139,32 +178,79 @@ int main(int argc, char **argv) {
   std::ofstream dat(outDir / "backends.dat");
   md << "## Scaling series (one thread, 320x240 rays)\n\n"
         "| scene | N | backend | build s | memory MB | primary Mrays/s | primary single Mrays/s | "
-        "shadow Mrays/s | secondary Mrays/s |\n|---|---|---|---|---|---|---|---|---|\n";
+        "shadow Mrays/s | secondary Mrays/s | render s | render rays |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
   dat << "# kind N embree_build kd_build embree_mem kd_mem embree_primary kd_primary embree_shadow "
-         "kd_shadow embree_secondary kd_secondary embree_primary_single kd_primary_single\n";
+         "kd_shadow embree_secondary kd_secondary embree_primary_single kd_primary_single "
+         "embree_render kd_render\n";
+  // Per backend and kind: (N, render s, seconds per single primary ray) at
+  // the smallest and largest N, for the log N check below.
+  struct Ends {
+    size_t n0 = 0, n1 = 0;
+    double render0 = 0, render1 = 0, perRay0 = 0, perRay1 = 0, ray0 = 0, ray1 = 0;
+  };
+  std::vector<std::pair<std::string, Ends>> growth;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
-      Scene scene = std::string(kind) == "spheres" ? sphereScene(n) : bench::makeBumpySphereScene(n);
+      Scene scene = withLightAndFinish(std::string(kind) == "spheres"
+                                           ? sphereScene(n)
+                                           : bench::makeBumpySphereScene(n));
       RayFigures fig[2];
       for (int b = 0; b < 2; ++b) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;
         fig[b] = measure(scene, backend, 320, 240);
-        md << fmt::format("| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} |\n",
-                          kind, n, backendName(backend), fig[b].build, fig[b].memoryMB,
-                          fig[b].primary, fig[b].primarySingle, fig[b].shadow, fig[b].secondary);
+        md << fmt::format(
+            "| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} | {} |\n",
+            kind, n, backendName(backend), fig[b].build, fig[b].memoryMB, fig[b].primary,
+            fig[b].primarySingle, fig[b].shadow, fig[b].secondary, fig[b].render,
+            fig[b].renderRays);
+        std::string key = fmt::format("{} {}", backendName(backend), kind);
+        auto it = std::find_if(growth.begin(), growth.end(),
+                               [&](const auto &g) { return g.first == key; });
+        double perRay = fig[b].render / double(fig[b].renderRays);
+        double camera = 1 / fig[b].primarySingle;
+        if (it == growth.end()) {
+          growth.push_back(
+              {key, Ends{n, n, fig[b].render, fig[b].render, perRay, perRay, camera, camera}});
+        } else {
+          it->second.n1 = n;
+          it->second.render1 = fig[b].render;
+          it->second.perRay1 = perRay;
+          it->second.ray1 = camera;
+        }
         std::cout << kind << " " << n << " " << backendName(backend) << " build " << fig[b].build
                   << " s, primary " << fig[b].primary << " Mrays/s" << std::endl;
       }
-      md << fmt::format(
-          "| {} | {} | kd/embree | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x |\n", kind,
-          n, fig[1].build / fig[0].build, fig[1].memoryMB / fig[0].memoryMB,
-          fig[1].primary / fig[0].primary, fig[1].primarySingle / fig[0].primarySingle,
-          fig[1].shadow / fig[0].shadow, fig[1].secondary / fig[0].secondary);
-      dat << fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", kind, n, fig[0].build,
-                         fig[1].build, fig[0].memoryMB, fig[1].memoryMB, fig[0].primary,
-                         fig[1].primary, fig[0].shadow, fig[1].shadow, fig[0].secondary,
-                         fig[1].secondary, fig[0].primarySingle, fig[1].primarySingle);
+      md << fmt::format("| {} | {} | kd/embree | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | {:.2f}x | "
+                        "{:.2f}x | {:.2f}x | |\n",
+                        kind, n, fig[1].build / fig[0].build, fig[1].memoryMB / fig[0].memoryMB,
+                        fig[1].primary / fig[0].primary,
+                        fig[1].primarySingle / fig[0].primarySingle,
+                        fig[1].shadow / fig[0].shadow, fig[1].secondary / fig[0].secondary,
+                        fig[1].render / fig[0].render);
+      dat << fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", kind, n,
+                         fig[0].build, fig[1].build, fig[0].memoryMB, fig[1].memoryMB,
+                         fig[0].primary, fig[1].primary, fig[0].shadow, fig[1].shadow,
+                         fig[0].secondary, fig[1].secondary, fig[0].primarySingle,
+                         fig[1].primarySingle, fig[0].render, fig[1].render);
     }
+  }
+
+  // Render time against log N: a frame of the largest scene may take at most
+  // log(N_max) / log(N_min) times the smallest one's. The frame time is what
+  // a user waits for (camera rays, shading, shadow and reflected rays); as
+  // the series' scenes do not trace the same number of rays (more pixels hit
+  // the many small spheres than the few big ones), the frame time per traced
+  // ray follows it, then the time of one camera ray alone (intersect, no
+  // shading).
+  md << "\n## Growth with N (largest / smallest scene of the series)\n\n"
+        "| backend, series | growth | log N growth | within log N |\n|---|---|---|---|\n";
+  for (const auto &[key, e] : growth) {
+    md << logGrowthLine((key + ": frame time").c_str(), e.render0, e.render1, e.n0, e.n1);
+    md << logGrowthLine((key + ": frame time per traced ray").c_str(), e.perRay0, e.perRay1,
+                        e.n0, e.n1);
+    md << logGrowthLine((key + ": one camera ray, traversal only").c_str(), e.ray0, e.ray1, e.n0,
+                        e.n1);
   }
 
   md << "\n## Gallery (frame 0, scene_info size, one thread)\n\n"

@@ -13,7 +13,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <random>
+#include <tuple>
 
 namespace lray {
 namespace {
@@ -182,8 +184,10 @@ struct RawEmbreeMesh {
 Vec3 roundToFloat(const Vec3 &v) { return toVec3({float(v.x), float(v.y), float(v.z)}); }
 
 TEST(EmbreeRobustness, PbrtWatertightProbe) {
-  const int seeds = 5, n = 100000;
-  int totalLray = 0, totalRaw = 0;
+  // One jittered sphere per seed: the misses depend far more on the mesh
+  // (how sharp its vertex fans are) than on the rays, so many meshes.
+  const int seeds = 40, n = 100000;
+  std::vector<int> lrayMisses, rawMisses;
   for (int seed = 1; seed <= seeds; ++seed) {
     std::mt19937_64 rng(seed);
     auto mesh = pbrtProbeSphere(rng);
@@ -203,23 +207,29 @@ TEST(EmbreeRobustness, PbrtWatertightProbe) {
       if (!accel.intersect({o, d}, h)) ++missVertex;
       if (!raw.hits(o, d)) ++rawMissVertex;
     }
-    std::printf("[watertight] pbrt probe, seed %d, %d rays each: random %d; vertices %d misses "
-                "(raw Embree %d)\n",
-                seed, n, missRandom, missVertex, rawMissVertex);
     EXPECT_EQ(missRandom, 0) << seed;
     EXPECT_LE(missVertex, rawMissVertex) << seed;
-    totalLray += missVertex;
-    totalRaw += rawMissVertex;
+    lrayMisses.push_back(missVertex);
+    rawMisses.push_back(rawMissVertex);
   }
-  double perLray = double(totalLray) / seeds, perRaw = double(totalRaw) / seeds;
-  std::printf("[watertight] pbrt probe: %.1f vertex misses per 1e5 (raw Embree %.1f)\n", perLray,
-              perRaw);
-  // Embree's own limit on this probe and machine is 27.4 per 1e5 over these
-  // seeds (11 to 44 per seed), a little above the "about 20"; LRay
+  auto summary = [](std::vector<int> v) {
+    std::sort(v.begin(), v.end());
+    double mean = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+    double median = 0.5 * (v[(v.size() - 1) / 2] + v[v.size() / 2]);
+    return std::tuple{mean, median, v.front(), v.back()};
+  };
+  auto [mean, median, lo, hi] = summary(lrayMisses);
+  auto [rawMean, rawMedian, rawLo, rawHi] = summary(rawMisses);
+  std::printf("[watertight] pbrt probe, %d meshes x %d vertex-aimed rays: LRay misses per 1e5 "
+              "mean %.1f, median %.1f, range %d-%d; raw Embree mean %.1f, median %.1f, range "
+              "%d-%d\n",
+              seeds, n, mean, median, lo, hi, rawMean, rawMedian, rawLo, rawHi);
+  // Embree 3.13's robust mode misses about 25 per 1e5 here (40 meshes:
+  // mean 25.3, median 24, 11 to 47 per mesh), the "about 20"; LRay
   // adds no miss to it. A hole in the mesh or a leak from LRay's ray
   // conversion would miss thousands.
-  EXPECT_LE(perLray, perRaw);
-  EXPECT_LE(perLray, 50.0);
+  EXPECT_LE(mean, rawMean);
+  EXPECT_LE(median, 30.0);
 }
 
 /// Re-hits of entity 0 by rays spawned from hits on it; `rays` per hit

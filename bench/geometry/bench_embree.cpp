@@ -3,7 +3,9 @@
 // of rtcIntersect1 / rtcIntersect8, no hit record) against LRay's
 // EmbreeAccelerator (intersect / intersectCoherent, full Hit); plus memory
 // per triangle and the cost of an instance. Single thread; ray rates are
-// best of five, in thread CPU time.
+// medians of seven rounds in thread CPU time, each round timing all four
+// loops one after the other, so that the shared machine's drift hits raw
+// Embree and LRay alike.
 //
 //   bench_embree [width height]     (default 1024 x 768 rays per view)
 #include "accel/embree/embree_accelerator.h"
@@ -33,15 +35,9 @@ double threadSeconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-/// Best of five runs of `f`, in thread CPU seconds.
-double bestOf5(const std::function<void()> &f) {
-  double best = 1e300;
-  for (int i = 0; i < 5; ++i) {
-    double a = threadSeconds();
-    f();
-    best = std::min(best, threadSeconds() - a);
-  }
-  return best;
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
 }
 
 /// A wavy terrain over [-1, 1]^2 (xz) with (n+1)^2 vertices, 2 n^2 triangles,
@@ -232,20 +228,35 @@ size_t lrayTraceCoherent(const EmbreeAccelerator &a, const std::vector<Ray> &ray
 
 void compare(const char *name, RTCScene raw, const EmbreeAccelerator &accel,
              const std::vector<Ray> &rays) {
+  constexpr int kRounds = 7;
   size_t h[4];
-  double t[4];
-  t[0] = bestOf5([&] { h[0] = rawTrace1(raw, rays); });
-  t[1] = bestOf5([&] { h[1] = lrayTrace1(accel, rays); });
-  t[2] = bestOf5([&] { h[2] = rawTrace8(raw, rays); });
-  t[3] = bestOf5([&] { h[3] = lrayTraceCoherent(accel, rays); });
+  const std::function<void()> loops[4] = {[&] { h[0] = rawTrace1(raw, rays); },
+                                          [&] { h[1] = lrayTrace1(accel, rays); },
+                                          [&] { h[2] = rawTrace8(raw, rays); },
+                                          [&] { h[3] = lrayTraceCoherent(accel, rays); }};
+  std::vector<double> t[4];
+  for (int r = 0; r < kRounds; ++r)
+    for (int k = 0; k < 4; ++k) {
+      double a = threadSeconds();
+      loops[k]();
+      t[k].push_back(threadSeconds() - a);
+    }
   double n = static_cast<double>(rays.size()) / 1e6;
   std::printf("%s: %zu rays, hits raw %zu / lray %zu\n", name, rays.size(), h[0], h[1]);
-  std::printf("  single  raw rtcIntersect1 %7.2f Mrays/s   lray intersect         %7.2f Mrays/s  "
-              "(%.0f%%)\n",
-              n / t[0], n / t[1], 100 * t[0] / t[1]);
-  std::printf("  packet  raw rtcIntersect8 %7.2f Mrays/s   lray intersectCoherent %7.2f Mrays/s  "
-              "(%.0f%%)\n",
-              n / t[2], n / t[3], 100 * t[2] / t[3]);
+  // LRay / raw: the ratio of the medians, and the range of the rounds' ratios.
+  auto report = [&](const char *line, int rawIdx) {
+    std::vector<double> ratio;
+    for (int r = 0; r < kRounds; ++r) ratio.push_back(t[rawIdx][r] / t[rawIdx + 1][r]);
+    double tr = median(t[rawIdx]), tl = median(t[rawIdx + 1]);
+    auto [lo, hi] = std::minmax_element(ratio.begin(), ratio.end());
+    std::printf(line, n / tr, n / tl, 100 * tr / tl, 100 * *lo, 100 * *hi);
+  };
+  report("  single  raw rtcIntersect1 %7.2f Mrays/s   lray intersect         %7.2f Mrays/s  "
+         "(%.0f%%, rounds %.0f-%.0f%%)\n",
+         0);
+  report("  packet  raw rtcIntersect8 %7.2f Mrays/s   lray intersectCoherent %7.2f Mrays/s  "
+         "(%.0f%%, rounds %.0f-%.0f%%)\n",
+         2);
 }
 
 int run(int w, int hgt) {

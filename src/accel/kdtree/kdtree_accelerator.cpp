@@ -127,17 +127,65 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
         mt.tree.memoryBytes() + mt.leafTriangles.capacity() * sizeof(LeafTriangle);
 }
 
+template <bool AnyHit>
+bool KdTreeAccelerator::intersectMesh(const Instance &inst, const Ray &ray, double &tBest,
+                                      MeshHit &hit) const {
+  const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
+  const WatertightRay wray(objectRay);
+  const MeshTree &mt = meshTrees_[inst.meshTree];
+  const LeafTriangle *triangles = mt.leafTriangles.data();
+  return withRayAxis(wray.kz, [&](auto axis) {
+    constexpr int kz = decltype(axis)::value;
+    return mt.tree.traverseLeaves<AnyHit>(
+        objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
+          bool hitHere = false;
+          // Records a hit and tells any-hit queries to stop.
+          auto record = [&](uint32_t r, const TriangleHitParams &params) {
+            tTri = params.t;
+            hit = {r, params.b1, params.b2};
+            hitHere = true;
+            return AnyHit;
+          };
+          auto testOne = [&](uint32_t r) {
+            const Vec3f *p = triangles[r].p;
+            TriangleHitParams params;
+            return intersectFloatTriangle<kz>(wray, p[0], p[1], p[2], tTri, params) &&
+                   record(r, params);
+          };
+          const uint32_t end = offset + count;
+          uint32_t r = offset;
+          for (; r + 1 < end; r += 2) {
+            TrianglePairEdges pair;
+            if (!triangleEdgesPair<kz>(wray, triangles[r].p, triangles[r + 1].p, pair)) {
+              if (testOne(r) || testOne(r + 1)) return true;
+              continue;
+            }
+            for (uint32_t i = 0; i < 2; ++i) {
+              TriangleHitParams params;
+              if (pair.pass[i] &&
+                  finishTriangle(wray, pair.e0[i], pair.e1[i], pair.e2[i], pair.akz[i],
+                                 pair.bkz[i], pair.ckz[i], tTri, params) &&
+                  record(r + i, params))
+                return true;
+            }
+          }
+          if (r < end) testOne(r);
+          return hitHere;
+        });
+  });
+}
+
 bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   // The nearest triangle is only recorded during traversal (as its leaf
   // reference); its Hit is filled once at the end. Analytic shapes write
   // theirs into `hit` as they are found (a nearer find overwrites it).
   struct TriangleCandidate {
-    uint32_t entity = 0, meshTree = 0, ref = 0;
-    double b1 = 0, b2 = 0;
+    uint32_t entity = 0, meshTree = 0;
+    MeshHit mesh;
   } best;
   bool bestIsTriangle = false;
   double tMax = ray.tMax;
-  bool found = top_.traverse<false>(ray, tMax, [&](uint32_t prim, double &tBest) {
+  auto testInstance = [&](uint32_t prim, double &tBest) {
     const Instance &inst = instances_[prim];
     const Entity &entity = scene_.entities[inst.entity];
     if (inst.meshTree == kAnalytic) {
@@ -151,96 +199,35 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
       bestIsTriangle = false;
       return true;
     }
-    const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
-    const WatertightRay wray(objectRay);
-    const MeshTree &mt = meshTrees_[inst.meshTree];
-    const LeafTriangle *triangles = mt.leafTriangles.data();
-    return withRayAxis(wray.kz, [&](auto axis) {
-      constexpr int kz = decltype(axis)::value;
-      return mt.tree.traverseLeaves<false>(
-          objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
-            bool hitHere = false;
-            auto record = [&](uint32_t r, const TriangleHitParams &params) {
-              tTri = params.t;
-              best = {inst.entity, inst.meshTree, r, params.b1, params.b2};
-              bestIsTriangle = true;
-              hitHere = true;
-            };
-            auto testOne = [&](uint32_t r) {
-              const Vec3f *p = triangles[r].p;
-              TriangleHitParams params;
-              if (intersectFloatTriangle<kz>(wray, p[0], p[1], p[2], tTri, params))
-                record(r, params);
-            };
-            const uint32_t end = offset + count;
-            uint32_t r = offset;
-            for (; r + 1 < end; r += 2) {
-              TrianglePairEdges pair;
-              if (!triangleEdgesPair<kz>(wray, triangles[r].p, triangles[r + 1].p, pair)) {
-                testOne(r);
-                testOne(r + 1);
-                continue;
-              }
-              for (uint32_t i = 0; i < 2; ++i) {
-                TriangleHitParams params;
-                if (pair.pass[i] && finishTriangle(wray, pair.e0[i], pair.e1[i], pair.e2[i],
-                                                   pair.akz[i], pair.bkz[i], pair.ckz[i], tTri,
-                                                   params))
-                  record(r + i, params);
-              }
-            }
-            if (r < end) testOne(r);
-            return hitHere;
-          });
-    });
-  });
+    MeshHit meshHit;
+    if (!intersectMesh<false>(inst, ray, tBest, meshHit)) return false;
+    best = {inst.entity, inst.meshTree, meshHit};
+    bestIsTriangle = true;
+    return true;
+  };
+  // One entity: the top-level tree would only clip the ray to its bounds.
+  bool found = instances_.size() == 1 ? testInstance(0, tMax)
+                                      : top_.traverse<false>(ray, tMax, testInstance);
   if (!found) return false;
   if (bestIsTriangle) {
-    uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.ref];
-    fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.b1, best.b2,
-                    ray, frameOrigin_, hit);
+    uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.mesh.ref];
+    fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.mesh.b1,
+                    best.mesh.b2, ray, frameOrigin_, hit);
   }
   return true;
 }
 
 bool KdTreeAccelerator::occluded(const Ray &ray) const {
-  double tMax = ray.tMax;
-  return top_.traverse<true>(ray, tMax, [&](uint32_t prim, double &) {
+  auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
-    const Entity &entity = scene_.entities[inst.entity];
-    if (inst.meshTree == kAnalytic) return occludedShape(entity, ray);
-    const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
-    const WatertightRay wray(objectRay);
-    const MeshTree &mt = meshTrees_[inst.meshTree];
-    const LeafTriangle *triangles = mt.leafTriangles.data();
-    double tObject = objectRay.tMax;
-    return withRayAxis(wray.kz, [&](auto axis) {
-      constexpr int kz = decltype(axis)::value;
-      return mt.tree.traverseLeaves<true>(
-          objectRay, tObject, [&](uint32_t offset, uint32_t count, double &tTri) {
-            TriangleHitParams params;
-            auto testOne = [&](uint32_t r) {
-              const Vec3f *p = triangles[r].p;
-              return intersectFloatTriangle<kz>(wray, p[0], p[1], p[2], tTri, params);
-            };
-            const uint32_t end = offset + count;
-            uint32_t r = offset;
-            for (; r + 1 < end; r += 2) {
-              TrianglePairEdges pair;
-              if (!triangleEdgesPair<kz>(wray, triangles[r].p, triangles[r + 1].p, pair)) {
-                if (testOne(r) || testOne(r + 1)) return true;
-                continue;
-              }
-              for (int i = 0; i < 2; ++i)
-                if (pair.pass[i] && finishTriangle(wray, pair.e0[i], pair.e1[i], pair.e2[i],
-                                                   pair.akz[i], pair.bkz[i], pair.ckz[i], tTri,
-                                                   params))
-                  return true;
-            }
-            return r < end && testOne(r);
-          });
-    });
-  });
+    if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
+    double tObject = ray.tMax;
+    MeshHit unused;
+    return intersectMesh<true>(inst, ray, tObject, unused);
+  };
+  double tMax = ray.tMax;
+  return instances_.size() == 1 ? testInstance(0, tMax)
+                                : top_.traverse<true>(ray, tMax, testInstance);
 }
 
 void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,

@@ -60,6 +60,16 @@ private:
     Transform objectFromWorld;  ///< meshes only
   };
 
+  /// A mesh hit as found during traversal: the leaf reference and barycentrics.
+  struct MeshHit {
+    uint32_t ref = 0;
+    double b1 = 0, b2 = 0;
+  };
+  /// The nearest (AnyHit: any) triangle of a mesh instance with t in
+  /// (ray.tMin, tBest), `ray` in world space; lowers tBest to a hit's t.
+  template <bool AnyHit>
+  bool intersectMesh(const Instance &inst, const Ray &ray, double &tBest, MeshHit &hit) const;
+
   const Scene &scene_;
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so
   /// both backends spawn secondary rays from the same points).

@@ -9,6 +9,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/kdtree/kd_tree.h"
+#include "accel/kdtree/triangle_prefilter.h"
 #include "math/transform.h"
 
 #include <cstdint>
@@ -41,16 +42,14 @@ public:
 private:
   static constexpr uint32_t kAnalytic = ~0u;
 
-  /// A triangle's corners copied out of the mesh, one per leaf reference in
-  /// the tree's leaf order: a leaf's triangles are read from one contiguous
-  /// run instead of through the index and position arrays.
-  struct LeafTriangle {
-    Vec3f p[3];
-  };
   struct MeshTree {
     const MeshData *mesh = nullptr;
     KdTree tree;
-    std::vector<LeafTriangle> leafTriangles; ///< parallel to tree.primIndices()
+    /// The triangles' corners copied out of the mesh in the tree's leaf
+    /// order, four leaf references per packet (leaves are padded to
+    /// multiples of four): a leaf's triangles are read from one contiguous
+    /// run, in SIMD lanes, instead of through the index and position arrays.
+    std::vector<TrianglePacket> packets;
   };
   /// One top-level primitive: an entity and, for meshes, how to reach its tree.
   struct Instance {

@@ -54,16 +54,15 @@ KdTree buildMeshTree(const MeshData &mesh) {
     b.extend(c.p2);
     bounds[i] = b;
   });
-  // Triangle trees stop splitting earlier than the model's defaults: on a
-  // 250k-triangle mesh, traversal cost 60 (vs 15) gave the same camera-ray
-  // throughput with 5x fewer nodes and half the build time (bench_kdtree).
-  // A step down the tree costs more as the tree outgrows the caches: 30
-  // was best below a few thousand triangles (100 triangles: 15-25 % more
-  // rays/s than 60), 120 above 2^18 (1M triangles: the same rays/s as 60
-  // with 2.5x fewer nodes and a faster build).
+  // Triangle trees stop splitting earlier than the model's defaults, and
+  // earlier still as the tree outgrows the caches (a step down costs more).
+  // With the float prefilter (a leaf triangle costs a quarter of a packet
+  // test) bench_kd_rays on the bumpy sphere was fastest at traversal cost
+  // 60 below 4096 triangles, 120 below 2^18, 240 above (1M triangles: 3-6 %
+  // fewer ns per ray than 120, 2.3x fewer nodes, 20 % less memory).
   KdBuildOptions options;
   options.leafAlignment = kPacketLanes;
-  options.cost.traversalCost = n < 4096 ? 30 : n < (size_t{1} << 18) ? 60 : 120;
+  options.cost.traversalCost = n < 4096 ? 60 : n < (size_t{1} << 18) ? 120 : 240;
   return KdTree::build(
       bounds,
       [&mesh](uint32_t i, const Bounds3 &box) {

@@ -1,6 +1,7 @@
 // Tests for src/accel/kdtree/triangle_prefilter.h: the float prefilter never
 // rejects a triangle the exact watertight test hits, also for rays through
-// vertices and edges and far from the origin, and rejects clear misses.
+// vertices and edges and far from the origin, and rejects clear misses; its
+// AVX2 version (triangle_prefilter_avx2.cpp) agrees lane by lane.
 #include "accel/kdtree/triangle_prefilter.h"
 #include "kdtree/kdtree_test_util.h"
 
@@ -18,13 +19,29 @@ Vec3f toFloat(const Vec3 &v) {
 }
 Vec3 toDouble(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
+// The SSE prefilter's verdict; where the CPU has AVX2, also checks that the
+// eight-lane version gives the same verdict for each of two copies.
 uint32_t prefilter(const WatertightRay &ray, const Bounds3 &box, const TrianglePacket &packet) {
   PrefilterRay fray(ray, box);
+  const TrianglePacket pair[2] = {packet, packet};
+  uint32_t pass = 0, pairPass = 0;
   switch (ray.kz) {
-  case 0: return prefilterPacket<0>(fray, packet);
-  case 1: return prefilterPacket<1>(fray, packet);
-  default: return prefilterPacket<2>(fray, packet);
+  case 0:
+    pass = prefilterPacket<0>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<0>(fray, pair);
+    break;
+  case 1:
+    pass = prefilterPacket<1>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<1>(fray, pair);
+    break;
+  default:
+    pass = prefilterPacket<2>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<2>(fray, pair);
   }
+  if (cpuHasAvx2()) {
+    EXPECT_EQ(pairPass, pass | pass << 4);
+  }
+  return pass;
 }
 
 struct Counts {

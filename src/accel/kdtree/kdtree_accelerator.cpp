@@ -75,7 +75,7 @@ KdTree buildMeshTree(const MeshData &mesh) {
 } // namespace
 
 KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
-    : scene_(scene), frameOrigin_(floatFrameOrigin(scene)) {
+    : scene_(scene), frameOrigin_(floatFrameOrigin(scene)), useAvx2_(cpuHasAvx2()) {
   auto start = std::chrono::steady_clock::now();
 
   // One bottom-level tree per distinct MeshData (shared_ptr identity).
@@ -145,22 +145,29 @@ bool KdTreeAccelerator::intersectMesh(const Instance &inst, const Ray &ray, doub
           // Packets of four leaf references: the float prefilter keeps the
           // triangles that may be hit, the exact test decides them in order.
           bool hitHere = false;
-          const TrianglePacket *packet = packets + offset / kPacketLanes;
-          for (uint32_t first = 0; first < count; first += kPacketLanes, ++packet) {
-            uint32_t lanes = prefilterPacket<kz>(fray, *packet);
-            if (count - first < kPacketLanes) lanes &= (1u << (count - first)) - 1;
+          // Two packets at a time where the CPU has AVX2.
+          const TrianglePacket *group = packets + offset / kPacketLanes;
+          for (uint32_t first = 0; first < count;) {
+            const bool pair = useAvx2_ && count - first > kPacketLanes;
+            uint32_t lanes = pair ? prefilterPacketPairAvx2<kz>(fray, group)
+                                  : prefilterPacket<kz>(fray, *group);
+            const uint32_t width = pair ? 2 * kPacketLanes : kPacketLanes;
+            if (count - first < width) lanes &= (1u << (count - first)) - 1;
             for (; lanes != 0; lanes &= lanes - 1) {
-              const int lane = std::countr_zero(lanes);
+              const uint32_t lane = std::countr_zero(lanes);
+              const TrianglePacket &packet = group[lane / kPacketLanes];
+              const int k = lane % kPacketLanes;
               TriangleHitParams params;
-              if (!intersectFloatTriangle<kz>(wray, packet->corner(lane, 0),
-                                              packet->corner(lane, 1), packet->corner(lane, 2),
-                                              tTri, params))
+              if (!intersectFloatTriangle<kz>(wray, packet.corner(k, 0), packet.corner(k, 1),
+                                              packet.corner(k, 2), tTri, params))
                 continue;
               tTri = params.t;
               hit = {offset + first + lane, params.b1, params.b2};
               if (AnyHit) return true;
               hitHere = true;
             }
+            first += width;
+            group += width / kPacketLanes;
           }
           return hitHere;
         });

@@ -73,6 +73,8 @@ private:
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so
   /// both backends spawn secondary rays from the same points).
   Vec3 frameOrigin_;
+  /// Leaf triangles go through the prefilter two packets at a time (AVX2).
+  bool useAvx2_;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
   KdTree top_;

@@ -113,4 +113,12 @@ inline uint32_t prefilterPacket(const PrefilterRay &ray, const TrianglePacket &p
   return ~static_cast<uint32_t>(_mm_movemask_ps(_mm_and_ps(pos, neg))) & 0xfu;
 }
 
+/// True when the CPU runs AVX2 (prefilterPacketPairAvx2 may be called).
+bool cpuHasAvx2();
+
+/// prefilterPacket for packets[0] and packets[1] at once (bits 0-3 and 4-7),
+/// with AVX2: call only where cpuHasAvx2().
+template <int Kz>
+uint32_t prefilterPacketPairAvx2(const PrefilterRay &ray, const TrianglePacket *packets);
+
 } // namespace lray

@@ -56,13 +56,14 @@ KdTree buildMeshTree(const MeshData &mesh) {
   });
   // Triangle trees stop splitting earlier than the model's defaults, and
   // earlier still as the tree outgrows the caches (a step down costs more).
-  // With the float prefilter (a leaf triangle costs a quarter of a packet
-  // test) bench_kd_rays on the bumpy sphere was fastest at traversal cost
-  // 60 below 4096 triangles, 120 below 2^18, 240 above (1M triangles: 3-6 %
-  // fewer ns per ray than 120, 2.3x fewer nodes, 20 % less memory).
+  // With the float prefilter (eight leaf triangles per AVX2 test)
+  // bench_kd_rays on the bumpy sphere was fastest at traversal cost 120
+  // below 2^18 triangles (100 triangles: 2-5 % fewer ns per ray than 60)
+  // and 240 above (1M triangles: 10-14 % fewer than 120, 2.3x fewer nodes,
+  // 20 % less memory; the depth limit and empty-space factor did nothing).
   KdBuildOptions options;
   options.leafAlignment = kPacketLanes;
-  options.cost.traversalCost = n < 4096 ? 60 : n < (size_t{1} << 18) ? 120 : 240;
+  options.cost.traversalCost = n < (size_t{1} << 18) ? 120 : 240;
   return KdTree::build(
       bounds,
       [&mesh](uint32_t i, const Bounds3 &box) {

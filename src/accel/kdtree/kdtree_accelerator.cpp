@@ -143,10 +143,10 @@ bool KdTreeAccelerator::intersectMesh(const Instance &inst, const Ray &ray, doub
     constexpr int kz = decltype(axis)::value;
     return mt.tree.traverseLeaves<AnyHit>(
         objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
-          // Packets of four leaf references: the float prefilter keeps the
-          // triangles that may be hit, the exact test decides them in order.
+          // Packets of four leaf references, two at a time where the CPU has
+          // AVX2: the float prefilter keeps the triangles that may be hit,
+          // the exact test decides them in order.
           bool hitHere = false;
-          // Two packets at a time where the CPU has AVX2.
           const TrianglePacket *group = packets + offset / kPacketLanes;
           for (uint32_t first = 0; first < count;) {
             const bool pair = useAvx2_ && count - first > kPacketLanes;

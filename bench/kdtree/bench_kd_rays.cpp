@@ -147,7 +147,8 @@ int main(int argc, char **argv) {
     }
     double m[6];
     for (int i = 0; i < 6; ++i) m[i] = median(t[i]) * 1e9;
-    std::printf("%8zu | %9.1f %9.1f %5.2f | %9.1f %9.1f %5.2f | %9.1f %9.1f %5.2f  digest %016llx\n",
+    std::printf("%8zu | %9.1f %9.1f %5.2f | %9.1f %9.1f %5.2f | %9.1f %9.1f %5.2f"
+                "  digest %016llx\n",
                 n, m[0], m[1], m[0] / m[1], m[2], m[3], m[2] / m[3], m[4], m[5], m[4] / m[5],
                 static_cast<unsigned long long>(digest.h));
     std::fflush(stdout);

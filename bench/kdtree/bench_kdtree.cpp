@@ -29,10 +29,10 @@ int main(int argc, char **argv) {
   std::printf("  memory          %.1f MiB (tree only; mesh data %.1f MiB)\n",
               static_cast<double>(fig.stats.memoryBytes) / (1 << 20),
               static_cast<double>(scene.entities[0].mesh->memoryBytes()) / (1 << 20));
-  std::printf("  mesh tree       %zu nodes, %zu leaves (%zu empty), %zu references, "
-              "depth %d (limit %d)\n",
-              info.nodes, info.leaves, info.emptyLeaves, info.primReferences, info.depth,
-              info.maxDepth);
+  std::printf("  mesh tree       %zu nodes, %zu leaves (%zu empty), %zu references "
+              "(%zu padded), depth %d (limit %d)\n",
+              info.nodes, info.leaves, info.emptyLeaves, info.primReferences,
+              info.paddedReferences, info.depth, info.maxDepth);
   std::printf("  camera rays     %zu, %.1f %% hit\n", fig.rays, 100 * fig.hitFraction);
   std::printf("  intersect       %.2f Mrays/s (1 thread), %.2f Mrays/s (all threads)\n",
               fig.raysPerSecondOneThread * 1e-6, fig.raysPerSecondAllThreads * 1e-6);

@@ -268,6 +268,34 @@ TEST(KdTree, EmptyTreeMissesEverything) {
   EXPECT_EQ(calls, 0);
 }
 
+// Leaves padded to a multiple of the alignment (for SIMD packets of leaf
+// data): aligned offsets, padding repeats the last primitive, same answers.
+TEST(KdTree, LeafAlignmentPadsEachLeaf) {
+  TriangleSoup soup = randomSoup(1000, 14, 1);
+  KdBuildOptions options;
+  options.leafAlignment = 4;
+  KdTree tree = soup.buildTree(options);
+  size_t references = 0;
+  for (const KdNode &node : tree.nodes()) {
+    if (!node.isLeaf() || node.primCount() == 0) continue;
+    references += node.primCount();
+    EXPECT_EQ(node.primOffset() % 4, 0u);
+    uint32_t last = tree.primIndices()[node.primOffset() + node.primCount() - 1];
+    for (uint32_t i = node.primCount(); i % 4 != 0; ++i)
+      EXPECT_EQ(tree.primIndices()[node.primOffset() + i], last);
+  }
+  EXPECT_EQ(references, tree.info().primReferences);
+  EXPECT_EQ(tree.info().paddedReferences, tree.primIndices().size());
+  EXPECT_EQ(tree.primIndices().size() % 4, 0u);
+  Rng rng(15);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 500; ++i) {
+    Vec3 o = rng.inBox({-12, -12, -12}, {12, 12, 12});
+    rays.push_back({o, rng.inBox({-8, -8, -8}, {8, 8, 8}) - o});
+  }
+  checkAgainstBruteForce(tree, soup, rays);
+}
+
 TEST(KdTree, EveryPrimitiveReachableFromItsLeaves) {
   TriangleSoup soup = randomSoup(1000, 13, 1);
   KdTree tree = soup.buildTree();

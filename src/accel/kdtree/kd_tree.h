@@ -32,6 +32,10 @@ struct KdBuildOptions {
   int maxDepth = 0;
   /// Nodes with at least this many primitives build their children in parallel.
   size_t parallelThreshold = 4096;
+  /// Every leaf's list starts at a multiple of this (a power of two) in
+  /// primIndices(), padded with copies of its last primitive, so per-leaf
+  /// data kept in that order can be grouped in SIMD packets.
+  uint32_t leafAlignment = 1;
 };
 
 /// Figures about a built tree.
@@ -40,6 +44,7 @@ struct KdTreeInfo {
   size_t leaves = 0;
   size_t emptyLeaves = 0;
   size_t primReferences = 0; ///< sum of leaf sizes (a primitive may sit in several leaves)
+  size_t paddedReferences = 0; ///< primIndices() size (leaves padded to the alignment)
   int depth = 0;             ///< deepest node reached
   int maxDepth = 0;          ///< the limit the build used
 };
@@ -90,7 +95,8 @@ public:
     auto first = primIndices_.begin() + leaf.primOffset();
     return {first, first + leaf.primCount()};
   }
-  /// The leaves' primitive lists, one after another (leaf order).
+  /// The leaves' primitive lists, one after another (leaf order), each
+  /// padded to the build's leafAlignment.
   std::span<const uint32_t> primIndices() const { return primIndices_; }
 
 private:

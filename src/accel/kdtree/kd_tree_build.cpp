@@ -187,6 +187,7 @@ public:
     info.depth = depthReached_.load();
     info.maxDepth = maxDepth_;
     info.primReferences = 0;
+    info.paddedReferences = tree.primIndices_.size();
     for (const KdNode &n : tree.nodes_) {
       if (!n.isLeaf()) continue;
       ++info.leaves;
@@ -361,9 +362,12 @@ private:
   void makeLeaf(uint32_t nodeIndex, const PrimRef *refs, size_t n) {
     uint32_t offset = 0;
     if (n > 0) {
-      auto it = prims_.grow_by(n);
+      // Whole aligned blocks: every leaf then starts on a multiple too.
+      const size_t align = options_.leafAlignment;
+      const size_t padded = (n + align - 1) / align * align;
+      auto it = prims_.grow_by(padded);
       offset = static_cast<uint32_t>(it - prims_.begin());
-      for (size_t i = 0; i < n; ++i) *it++ = refs[i].prim;
+      for (size_t i = 0; i < padded; ++i) *it++ = refs[std::min(i, n - 1)].prim;
     }
     nodes_[nodeIndex] = KdNode::leaf(static_cast<uint32_t>(n), offset);
   }
@@ -492,6 +496,7 @@ private:
 KdTree KdTree::build(std::span<const Bounds3> primBounds, const KdClipFunction &clip,
                      const KdBuildOptions &options) {
   assert(primBounds.size() <= KdNode::kMaxIndex);
+  assert(options.leafAlignment > 0 && std::has_single_bit(options.leafAlignment));
   std::vector<PrimRef> refs;
   Bounds3 box;
   size_t n = 0;

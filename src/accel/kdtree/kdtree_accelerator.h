@@ -9,6 +9,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/kdtree/kd_tree.h"
+#include "accel/kdtree/triangle_prefilter.h"
 #include "math/transform.h"
 
 #include <cstdint>
@@ -41,16 +42,14 @@ public:
 private:
   static constexpr uint32_t kAnalytic = ~0u;
 
-  /// A triangle's corners copied out of the mesh, one per leaf reference in
-  /// the tree's leaf order: a leaf's triangles are read from one contiguous
-  /// run instead of through the index and position arrays.
-  struct LeafTriangle {
-    Vec3f p[3];
-  };
   struct MeshTree {
     const MeshData *mesh = nullptr;
     KdTree tree;
-    std::vector<LeafTriangle> leafTriangles; ///< parallel to tree.primIndices()
+    /// The triangles' corners copied out of the mesh in the tree's leaf
+    /// order, four leaf references per packet (leaves are padded to
+    /// multiples of four): a leaf's triangles are read from one contiguous
+    /// run, in SIMD lanes, instead of through the index and position arrays.
+    std::vector<TrianglePacket> packets;
   };
   /// One top-level primitive: an entity and, for meshes, how to reach its tree.
   struct Instance {
@@ -60,10 +59,22 @@ private:
     Transform objectFromWorld;  ///< meshes only
   };
 
+  /// A mesh hit as found during traversal: the leaf reference and barycentrics.
+  struct MeshHit {
+    uint32_t ref = 0;
+    double b1 = 0, b2 = 0;
+  };
+  /// The nearest (AnyHit: any) triangle of a mesh instance with t in
+  /// (ray.tMin, tBest), `ray` in world space; lowers tBest to a hit's t.
+  template <bool AnyHit>
+  bool intersectMesh(const Instance &inst, const Ray &ray, double &tBest, MeshHit &hit) const;
+
   const Scene &scene_;
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so
   /// both backends spawn secondary rays from the same points).
   Vec3 frameOrigin_;
+  /// Leaf triangles go through the prefilter two packets at a time (AVX2).
+  bool useAvx2_;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
   KdTree top_;

@@ -1,0 +1,69 @@
+// Pipeline: acceleration (kd-tree backend). The prefilter of
+// triangle_prefilter.h eight lanes wide (two packets) with AVX2, compiled
+// for AVX2 here only and called after a runtime check. Every lane performs
+// the SSE version's operations in the same order, so the error bound holds
+// as derived there. Only this file's own function is compiled for AVX2:
+// the headers come before the target pragma, so no inline function they
+// define can get an AVX2 copy that the linker might pick for other callers.
+#include "accel/kdtree/triangle_prefilter.h"
+
+#include <immintrin.h>
+
+namespace lray {
+
+bool cpuHasAvx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+namespace {
+
+// (Helpers rather than lambdas: lambdas would not inherit the target.)
+__m256 loadPair(const TrianglePacket *packets, int c, int axis) {
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(packets[0].v[c][axis])),
+                              _mm_load_ps(packets[1].v[c][axis]), 1);
+}
+__m256 bcast(const __m128 &v) { return _mm256_broadcast_ps(&v); }
+__m256 gt(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+
+} // namespace
+
+template <int Kz>
+uint32_t prefilterPacketPairAvx2(const PrefilterRay &ray, const TrianglePacket *packets) {
+  if (!ray.active) return 0xff;
+  constexpr int kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
+  const __m256 signMask = _mm256_set1_ps(-0.0f);
+  const __m256 ox = bcast(ray.ox), oy = bcast(ray.oy), oz = bcast(ray.oz);
+  const __m256 sx = bcast(ray.sx), sy = bcast(ray.sy);
+  __m256 x[3], y[3], s[3];
+  for (int c = 0; c < 3; ++c) {
+    const __m256 az = _mm256_sub_ps(loadPair(packets, c, Kz), oz);
+    x[c] = _mm256_sub_ps(_mm256_sub_ps(loadPair(packets, c, kx), ox), _mm256_mul_ps(sx, az));
+    y[c] = _mm256_sub_ps(_mm256_sub_ps(loadPair(packets, c, ky), oy), _mm256_mul_ps(sy, az));
+    s[c] = _mm256_add_ps(_mm256_andnot_ps(signMask, x[c]), _mm256_andnot_ps(signMask, y[c]));
+  }
+  const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));
+  const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));
+  const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));
+  const __m256 sMax = _mm256_max_ps(s[0], _mm256_max_ps(s[1], s[2]));
+  const __m256 bound = _mm256_add_ps(
+      _mm256_add_ps(_mm256_mul_ps(bcast(ray.delta2), _mm256_add_ps(sMax, bcast(ray.delta))),
+                    _mm256_mul_ps(bcast(ray.gamma), _mm256_mul_ps(sMax, sMax))),
+      bcast(ray.tiny));
+  const __m256 negBound = _mm256_xor_ps(bound, signMask);
+  const __m256 pos = _mm256_or_ps(_mm256_or_ps(gt(e0, bound), gt(e1, bound)), gt(e2, bound));
+  const __m256 neg =
+      _mm256_or_ps(_mm256_or_ps(gt(negBound, e0), gt(negBound, e1)), gt(negBound, e2));
+  return ~static_cast<uint32_t>(_mm256_movemask_ps(_mm256_and_ps(pos, neg))) & 0xffu;
+}
+
+template uint32_t prefilterPacketPairAvx2<0>(const PrefilterRay &, const TrianglePacket *);
+template uint32_t prefilterPacketPairAvx2<1>(const PrefilterRay &, const TrianglePacket *);
+template uint32_t prefilterPacketPairAvx2<2>(const PrefilterRay &, const TrianglePacket *);
+
+#pragma GCC pop_options
+
+} // namespace lray

@@ -1,0 +1,126 @@
+// Tests for src/accel/kdtree/triangle_prefilter.h: the float prefilter never
+// rejects a triangle the exact watertight test hits, also for rays through
+// vertices and edges and far from the origin, and rejects clear misses; its
+// AVX2 version (triangle_prefilter_avx2.cpp) agrees lane by lane.
+#include "accel/kdtree/triangle_prefilter.h"
+#include "kdtree/kdtree_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace lray {
+namespace {
+
+using kdtest::Rng;
+
+Vec3f toFloat(const Vec3 &v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+Vec3 toDouble(const Vec3f &v) { return {v.x, v.y, v.z}; }
+
+// The SSE prefilter's verdict; where the CPU has AVX2, also checks that the
+// eight-lane version gives the same verdict for each of two copies.
+uint32_t prefilter(const WatertightRay &ray, const Bounds3 &box, const TrianglePacket &packet) {
+  PrefilterRay fray(ray, box);
+  const TrianglePacket pair[2] = {packet, packet};
+  uint32_t pass = 0, pairPass = 0;
+  switch (ray.kz) {
+  case 0:
+    pass = prefilterPacket<0>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<0>(fray, pair);
+    break;
+  case 1:
+    pass = prefilterPacket<1>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<1>(fray, pair);
+    break;
+  default:
+    pass = prefilterPacket<2>(fray, packet);
+    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<2>(fray, pair);
+  }
+  if (cpuHasAvx2()) {
+    EXPECT_EQ(pairPass, pass | pass << 4);
+  }
+  return pass;
+}
+
+struct Counts {
+  int hits = 0, rejected = 0, misses = 0;
+};
+
+// Four random triangles of size `size` around `center`, and rays aimed at
+// their corners, at points of their edges and at random points near them.
+Counts probe(uint64_t seed, const Vec3 &center, double size, double spread) {
+  Rng rng(seed);
+  Counts counts;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (int round = 0; round < 400; ++round) {
+    TrianglePacket packet;
+    Vec3f corners[4][3];
+    Bounds3 box;
+    for (int lane = 0; lane < 4; ++lane) {
+      Vec3 c = center + rng.inBox({-spread, -spread, -spread}, {spread, spread, spread});
+      for (Vec3f &p : corners[lane]) {
+        p = toFloat(c + rng.direction() * size);
+        box.extend(toDouble(p));
+      }
+      packet.set(lane, corners[lane][0], corners[lane][1], corners[lane][2]);
+    }
+    for (int k = 0; k < 40; ++k) {
+      const Vec3f *tri = corners[k % 4];
+      Vec3 a = toDouble(tri[0]), b = toDouble(tri[1]), c = toDouble(tri[2]);
+      Vec3 target;
+      switch (k % 5) {
+      case 0: target = k % 3 == 0 ? a : k % 3 == 1 ? b : c; break;
+      case 1: target = a + (b - a) * rng.uniform(); break;
+      case 2: target = b + (c - b) * rng.uniform(); break;
+      default: {
+        double u = rng.uniform(-0.1, 1.1), v = rng.uniform(-0.1, 1.1);
+        target = a + (b - a) * u + (c - a) * v;
+      }
+      }
+      Vec3 origin = target + rng.direction() * rng.uniform(0.01, 4) * (1 + std::fabs(center.x));
+      Ray ray{origin, target - origin, -kInf, kInf};
+      WatertightRay wray(ray);
+      uint32_t pass = prefilter(wray, box, packet);
+      for (int lane = 0; lane < 4; ++lane) {
+        TriangleHitParams p;
+        bool hit = intersectTriangle(wray, toDouble(corners[lane][0]), toDouble(corners[lane][1]),
+                                     toDouble(corners[lane][2]), kInf, p);
+        bool kept = (pass >> lane) & 1;
+        if (hit) {
+          ++counts.hits;
+          EXPECT_TRUE(kept) << "seed " << seed << " round " << round << " ray " << k;
+        } else {
+          ++counts.misses;
+          counts.rejected += !kept;
+        }
+      }
+    }
+  }
+  return counts;
+}
+
+TEST(TrianglePrefilter, KeepsEveryHitAndRejectsMostMisses) {
+  Counts c = probe(1, {0, 0, 0}, 1, 3);
+  EXPECT_GT(c.hits, 2000);
+  EXPECT_GT(c.rejected, c.misses * 8 / 10);
+}
+
+TEST(TrianglePrefilter, KeepsHitsOfSmallTrianglesFarFromTheOrigin) {
+  for (double offset : {1e3, 1e5}) {
+    Counts c = probe(2, {offset, -offset, 0.5 * offset}, 1e-3 * offset * 1e-3, 1e-3 * offset);
+    EXPECT_GT(c.hits, 2000) << offset;
+  }
+}
+
+TEST(TrianglePrefilter, PassesEverythingOutOfFloatRange) {
+  TrianglePacket packet;
+  for (int lane = 0; lane < 4; ++lane) packet.set(lane, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  Ray ray{{1e35, 1e35, -1e35}, {0, 0, 1}};
+  Bounds3 box({0, 0, 0}, {1, 1, 0});
+  EXPECT_EQ(prefilter(WatertightRay(ray), box, packet), 0xfu);
+}
+
+} // namespace
+} // namespace lray

@@ -50,10 +50,15 @@ struct alignas(16) TrianglePacket {
 /// underflow) get an absolute term. Beyond the bound, the float and double
 /// values have the same strict sign.
 struct PrefilterRay {
-  __m128 ox, oy, oz, sx, sy; ///< origin (kx, ky, kz) and shear, broadcast
-  __m128 delta2, delta, gamma, tiny;
+  float ox = 0, oy = 0, oz = 0, sx = 0, sy = 0; ///< origin (kx, ky, kz) and shear
+  float delta = 0, delta2 = 0;                  ///< delta and 2 delta
   bool active = false; ///< false: magnitudes out of float range, every triangle passes
+  /// The bound's other constants: gamma (3u S^2 (1 + u) with margin) and
+  /// the absolute term.
+  static constexpr float kGamma = static_cast<float>(3.03 * 0x1.0p-24), kTiny = 1e-30f;
 
+  /// Inactive: every triangle passes.
+  PrefilterRay() = default;
   /// `box` bounds every corner the prefilter will see (the mesh's bounds).
   PrefilterRay(const WatertightRay &ray, const Bounds3 &box) {
     double o = 0, p = 0;
@@ -67,16 +72,13 @@ struct PrefilterRay {
     constexpr double u = 0x1.0p-24;
     // 1 % over the bound covers the double test's own error and the
     // roundings of the bound's float evaluation.
-    const float d = static_cast<float>((3 * o + 8 * p) * u * 1.01) + 1e-30f;
-    ox = _mm_set1_ps(static_cast<float>(ray.o[ray.kx]));
-    oy = _mm_set1_ps(static_cast<float>(ray.o[ray.ky]));
-    oz = _mm_set1_ps(static_cast<float>(ray.o[ray.kz]));
-    sx = _mm_set1_ps(static_cast<float>(ray.sx));
-    sy = _mm_set1_ps(static_cast<float>(ray.sy));
-    delta = _mm_set1_ps(d);
-    delta2 = _mm_set1_ps(2 * d);
-    gamma = _mm_set1_ps(static_cast<float>(3.03 * u));
-    tiny = _mm_set1_ps(1e-30f);
+    delta = static_cast<float>((3 * o + 8 * p) * u * 1.01) + kTiny;
+    delta2 = 2 * delta;
+    ox = static_cast<float>(ray.o[ray.kx]);
+    oy = static_cast<float>(ray.o[ray.ky]);
+    oz = static_cast<float>(ray.o[ray.kz]);
+    sx = static_cast<float>(ray.sx);
+    sy = static_cast<float>(ray.sy);
   }
 };
 
@@ -88,11 +90,13 @@ inline uint32_t prefilterPacket(const PrefilterRay &ray, const TrianglePacket &p
   if (!ray.active) return 0xf;
   constexpr int kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
   const __m128 signMask = _mm_set1_ps(-0.0f);
+  const __m128 ox = _mm_set1_ps(ray.ox), oy = _mm_set1_ps(ray.oy), oz = _mm_set1_ps(ray.oz);
+  const __m128 sx = _mm_set1_ps(ray.sx), sy = _mm_set1_ps(ray.sy);
   __m128 x[3], y[3], s[3];
   for (int c = 0; c < 3; ++c) {
-    const __m128 az = _mm_sub_ps(_mm_load_ps(packet.v[c][Kz]), ray.oz);
-    x[c] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(packet.v[c][kx]), ray.ox), _mm_mul_ps(ray.sx, az));
-    y[c] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(packet.v[c][ky]), ray.oy), _mm_mul_ps(ray.sy, az));
+    const __m128 az = _mm_sub_ps(_mm_load_ps(packet.v[c][Kz]), oz);
+    x[c] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(packet.v[c][kx]), ox), _mm_mul_ps(sx, az));
+    y[c] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(packet.v[c][ky]), oy), _mm_mul_ps(sy, az));
     s[c] = _mm_add_ps(_mm_andnot_ps(signMask, x[c]), _mm_andnot_ps(signMask, y[c]));
   }
   // Edge functions as in the double test (e0: edge p1-p2, e1: p2-p0, e2: p0-p1).
@@ -101,10 +105,12 @@ inline uint32_t prefilterPacket(const PrefilterRay &ray, const TrianglePacket &p
   const __m128 e2 = _mm_sub_ps(_mm_mul_ps(x[1], y[0]), _mm_mul_ps(y[1], x[0]));
   // One bound for the three edges, from the largest corner magnitude.
   const __m128 sMax = _mm_max_ps(s[0], _mm_max_ps(s[1], s[2]));
+  const __m128 delta = _mm_set1_ps(ray.delta), delta2 = _mm_set1_ps(ray.delta2);
+  const __m128 gamma = _mm_set1_ps(PrefilterRay::kGamma);
   const __m128 bound =
-      _mm_add_ps(_mm_add_ps(_mm_mul_ps(ray.delta2, _mm_add_ps(sMax, ray.delta)),
-                            _mm_mul_ps(ray.gamma, _mm_mul_ps(sMax, sMax))),
-                 ray.tiny);
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(delta2, _mm_add_ps(sMax, delta)),
+                            _mm_mul_ps(gamma, _mm_mul_ps(sMax, sMax))),
+                 _mm_set1_ps(PrefilterRay::kTiny));
   const __m128 negBound = _mm_xor_ps(bound, signMask);
   const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(e0, bound), _mm_cmpgt_ps(e1, bound)),
                                _mm_cmpgt_ps(e2, bound));

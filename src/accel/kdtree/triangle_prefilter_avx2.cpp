@@ -26,7 +26,7 @@ __m256 loadPair(const TrianglePacket *packets, int c, int axis) {
   return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(packets[0].v[c][axis])),
                               _mm_load_ps(packets[1].v[c][axis]), 1);
 }
-__m256 bcast(const __m128 &v) { return _mm256_broadcast_ps(&v); }
+__m256 bcast(const float &v) { return _mm256_broadcast_ss(&v); }
 __m256 gt(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
 
 } // namespace
@@ -49,10 +49,11 @@ uint32_t prefilterPacketPairAvx2(const PrefilterRay &ray, const TrianglePacket *
   const __m256 e1 = _mm256_sub_ps(_mm256_mul_ps(x[0], y[2]), _mm256_mul_ps(y[0], x[2]));
   const __m256 e2 = _mm256_sub_ps(_mm256_mul_ps(x[1], y[0]), _mm256_mul_ps(y[1], x[0]));
   const __m256 sMax = _mm256_max_ps(s[0], _mm256_max_ps(s[1], s[2]));
+  const __m256 gamma = _mm256_set1_ps(PrefilterRay::kGamma);
   const __m256 bound = _mm256_add_ps(
       _mm256_add_ps(_mm256_mul_ps(bcast(ray.delta2), _mm256_add_ps(sMax, bcast(ray.delta))),
-                    _mm256_mul_ps(bcast(ray.gamma), _mm256_mul_ps(sMax, sMax))),
-      bcast(ray.tiny));
+                    _mm256_mul_ps(gamma, _mm256_mul_ps(sMax, sMax))),
+      _mm256_set1_ps(PrefilterRay::kTiny));
   const __m256 negBound = _mm256_xor_ps(bound, signMask);
   const __m256 pos = _mm256_or_ps(_mm256_or_ps(gt(e0, bound), gt(e1, bound)), gt(e2, bound));
   const __m256 neg =

@@ -3,6 +3,7 @@
 #include "accel/embree/embree_accelerator.h"
 
 #include "accel_test_scenes.h"
+#include "hit_expect.h"
 #include "geometry/shape.h"
 
 #include <gtest/gtest.h>
@@ -13,23 +14,11 @@ namespace lray {
 namespace {
 
 using testing::bruteForce;
+using testing::expectSameHit;
 using testing::makeJitteredSphere;
 using testing::makeMesh;
 using testing::meshEntity;
 using testing::shapeEntity;
-
-void expectSameHit(const Hit &a, const Hit &b) {
-  EXPECT_EQ(a.t, b.t);
-  EXPECT_EQ(a.entity, b.entity);
-  EXPECT_EQ(a.primitive, b.primitive);
-  EXPECT_EQ(a.p, b.p);
-  EXPECT_EQ(a.pObject, b.pObject);
-  EXPECT_EQ(a.ng, b.ng);
-  EXPECT_EQ(a.ns, b.ns);
-  EXPECT_EQ(a.u, b.u);
-  EXPECT_EQ(a.v, b.v);
-  EXPECT_EQ(a.pError, b.pError);
-}
 
 Scene mixedScene() {
   Scene s;

@@ -2,6 +2,7 @@
 // fill after their own triangle test (fillTriangleHit, meshObjectBounds).
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
+#include "hit_expect.h"
 
 #include <gtest/gtest.h>
 
@@ -203,13 +204,7 @@ TEST(FillTriangleHit, CompactCornersGiveTheSameHitAsMeshTriangles) {
       Ray ray{{0.5, 0.5, -10}, {0, 0.1, 1}};
       fillTriangleHit(meshEntity(full, xf, true), 3, tri, 2.0, 0.25, 0.5, ray, kWorldOrigin, a);
       fillTriangleHit(meshEntity(compact, xf, true), 3, tri, 2.0, 0.25, 0.5, ray, kWorldOrigin, b);
-      EXPECT_EQ(a.p, b.p);
-      EXPECT_EQ(a.pObject, b.pObject);
-      EXPECT_EQ(a.ng, b.ng);
-      EXPECT_EQ(a.ns, b.ns);
-      EXPECT_EQ(a.u, b.u);
-      EXPECT_EQ(a.v, b.v);
-      EXPECT_EQ(a.pError, b.pError);
+      testing::expectSameHit(a, b);
     }
   }
 }

@@ -10,6 +10,7 @@
 //   bench_embree [width height]     (default 1024 x 768 rays per view)
 #include "accel/embree/embree_accelerator.h"
 #include "geometry/shape.h"
+#include "render/renderer.h"
 
 #include <embree3/rtcore.h>
 
@@ -69,19 +70,23 @@ std::shared_ptr<MeshData> makeTerrain(int n) {
   return m;
 }
 
-/// Camera rays (pinhole at `eye` looking at `at`, horizontal fov 60 deg),
-/// row-major, so consecutive runs of 8 are coherent.
+/// Camera rays (pinhole at `eye` looking at `at`, horizontal fov 60 deg) in
+/// the renderer's order: 16x16-pixel tiles (render/renderer.h kTileSize),
+/// row-major within a tile, so consecutive runs of 8 are coherent and a
+/// tile's rays are one intersectCoherent call, as the renderer makes it.
 std::vector<Ray> cameraRays(const Vec3 &eye, const Vec3 &at, int w, int h) {
   Transform cam = Transform::lookAt(eye, at, {0, 1, 0});
   double tanHalf = std::tan(30.0 * 3.14159265358979323846 / 180);
   std::vector<Ray> rays;
   rays.reserve(static_cast<size_t>(w) * h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      double sx = (2 * (x + 0.5) / w - 1) * tanHalf;
-      double sy = (1 - 2 * (y + 0.5) / h) * tanHalf * h / w;
-      rays.push_back({eye, normalize(cam.applyVector({sx, sy, 1}))});
-    }
+  for (int ty = 0; ty < h; ty += kTileSize)
+    for (int tx = 0; tx < w; tx += kTileSize)
+      for (int y = ty; y < std::min(ty + kTileSize, h); ++y)
+        for (int x = tx; x < std::min(tx + kTileSize, w); ++x) {
+          double sx = (2 * (x + 0.5) / w - 1) * tanHalf;
+          double sy = (1 - 2 * (y + 0.5) / h) * tanHalf * h / w;
+          rays.push_back({eye, normalize(cam.applyVector({sx, sy, 1}))});
+        }
   return rays;
 }
 
@@ -214,7 +219,7 @@ size_t lrayTrace1(const EmbreeAccelerator &a, const std::vector<Ray> &rays) {
 }
 
 size_t lrayTraceCoherent(const EmbreeAccelerator &a, const std::vector<Ray> &rays) {
-  constexpr size_t kBatch = 64; // one tile row's worth
+  constexpr size_t kBatch = kTileSize * kTileSize; // one tile, as the renderer traces it
   size_t hits = 0;
   Hit h[kBatch];
   uint8_t found[kBatch];

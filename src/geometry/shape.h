@@ -8,6 +8,7 @@
 #include "math/ray.h"
 #include "scene/scene.h"
 
+#include <cstddef>
 #include <cstdint>
 
 namespace lray {
@@ -41,5 +42,27 @@ Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromOb
 void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
                      double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
                      Hit &hit);
+
+/// One mesh hit to fill: fillTriangleHit's arguments.
+struct TriangleHitQuery {
+  const Entity *entity;
+  uint32_t entityIndex;
+  uint32_t triangle;
+  double t, b1, b2;
+  const Ray *ray;
+  Hit *hit;
+};
+
+/// fillTriangleHit for each query (the same Hits, bit for bit), identity-
+/// placed meshes several at a time in SIMD lanes when `frameOrigin` is the
+/// world origin (triangle_hits.cpp).
+void fillTriangleHits(const TriangleHitQuery *queries, size_t count, const Vec3 &frameOrigin);
+
+namespace detail {
+/// fillTriangleHits with the lane code chosen (avx2: the AVX2 variant, which
+/// needs a CPU that has it); for tests.
+void fillTriangleHits(const TriangleHitQuery *queries, size_t count, const Vec3 &frameOrigin,
+                      bool avx2);
+} // namespace detail
 
 } // namespace lray

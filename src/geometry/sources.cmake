@@ -5,4 +5,7 @@ list(APPEND LRAY_CORE_SOURCES
   src/geometry/cube.cpp
   src/geometry/shape.cpp
   src/geometry/triangle_hit.cpp
+  src/geometry/triangle_hits.cpp
   src/geometry/float_frame.cpp)
+# Its SIMD lanes never cross a call (see the file).
+set_source_files_properties(src/geometry/triangle_hits.cpp PROPERTIES COMPILE_OPTIONS -Wno-psabi)

@@ -52,6 +52,10 @@ Bounds3 meshObjectBounds(const MeshData &mesh) {
   return b;
 }
 
+// triangle_hits.cpp repeats this arithmetic lane-wise for Embree's packets
+// (identity-placed meshes, frame at the origin): a change here must be made
+// there too, in the same operation order; the FillTriangleHits test compares
+// the two bit for bit.
 void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
                      double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
                      Hit &hit) {

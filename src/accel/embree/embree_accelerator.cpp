@@ -414,12 +414,20 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
     if (k >= kStages - 1) {
       const Packet &pk = ring[(k - (kStages - 1)) % kStages];
       const RTCRayHit8 &rh = pk.rh;
-      for (unsigned i = 0; i < pk.lanes; ++i)
-        found[pk.base + i] = finishHit(scene_, frameOrigin_, rh.hit.geomID[i], rh.hit.instID[0][i],
-                                       rh.hit.primID[i], rh.ray.tfar[i], rh.hit.u[i], rh.hit.v[i],
-                                       rays[pk.base + i], hits[pk.base + i])
-                                 ? 1
-                                 : 0;
+      // The packet's mesh hits are filled together (SIMD lanes); analytic
+      // hits were written by their callbacks.
+      TriangleHitQuery queries[8];
+      size_t nq = 0;
+      for (unsigned i = 0; i < pk.lanes; ++i) {
+        const size_t r = pk.base + i;
+        found[r] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+        if (!pk.meshes[i]) continue;
+        unsigned entity = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
+                                                                         : rh.hit.geomID[i];
+        queries[nq++] = {&scene_.entities[entity], entity, rh.hit.primID[i], rh.ray.tfar[i],
+                         rh.hit.u[i], rh.hit.v[i], &rays[r], &hits[r]};
+      }
+      fillTriangleHits(queries, nq, frameOrigin_);
     }
   }
 }

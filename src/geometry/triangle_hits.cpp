@@ -193,16 +193,11 @@ LaneCorners laneCorners(const TriangleHitQuery &q) {
   Lanes scale = maxLanes(maxAbsComponent(p0), maxLanes(maxAbsComponent(p1), maxAbsComponent(p2)));
   Lanes magnitude = maxAbsComponent(pObject);
   const double keps = kTriangleErrorFactor * kFloatRoundoff;
-  // The transform's cached norms (read directly: through member pointers
-  // GCC called the getters, and every call spills the vector registers).
-  auto xf = [&](int i) -> const Transform & { return q[i]->entity->worldFromObject; };
-  const Lanes linear = gather([&](int i) { return xf(i).linearNorm(); });
-  const Lanes inverseLinear = gather([&](int i) { return xf(i).inverseLinearNorm(); });
-  const Lanes translation = gather([&](int i) { return xf(i).translationNorm(); });
-  const Lanes inverseTranslation = gather([&](int i) { return xf(i).inverseTranslationNorm(); });
-  Lanes eObject =
-      keps * (magnitude + scale + inverseLinear * magnitude + inverseTranslation);
-  Lanes pError = eObject * linear + keps * (magnitude + translation);
+  // hitPointErrorFromNorms with an identity transform's norms (linear 1,
+  // inverse linear 1, translations 0): x * 1 and y + 0 (y >= 0) are exact,
+  // so dropping them keeps the bits.
+  Lanes eObject = keps * (magnitude + scale + magnitude);
+  Lanes pError = eObject + keps * magnitude;
 
   for (int i = 0; i < count; ++i) {
     Hit &hit = *q[i]->hit;

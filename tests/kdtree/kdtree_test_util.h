@@ -100,11 +100,12 @@ inline Nearest bruteForce(const TriangleSoup &soup, const Ray &ray) {
   return best;
 }
 
-inline Nearest treeNearest(const KdTree &tree, const TriangleSoup &soup, const Ray &ray) {
+template <KdRays Rays = KdRays::Incoherent>
+Nearest treeNearest(const KdTree &tree, const TriangleSoup &soup, const Ray &ray) {
   WatertightRay wr(ray);
   Nearest best;
   double tMax = ray.tMax;
-  tree.traverse<false>(ray, tMax, [&](uint32_t i, double &tBest) {
+  tree.traverse<false, Rays>(ray, tMax, [&](uint32_t i, double &tBest) {
     TriangleHitParams p;
     const Vec3 *c = &soup.corners[3 * size_t{i}];
     if (!intersectTriangle(wr, c[0], c[1], c[2], tBest, p))
@@ -116,10 +117,11 @@ inline Nearest treeNearest(const KdTree &tree, const TriangleSoup &soup, const R
   return best;
 }
 
-inline bool treeOccluded(const KdTree &tree, const TriangleSoup &soup, const Ray &ray) {
+template <KdRays Rays = KdRays::Incoherent>
+bool treeOccluded(const KdTree &tree, const TriangleSoup &soup, const Ray &ray) {
   WatertightRay wr(ray);
   double tMax = ray.tMax;
-  return tree.traverse<true>(ray, tMax, [&](uint32_t i, double &tBest) {
+  return tree.traverse<true, Rays>(ray, tMax, [&](uint32_t i, double &tBest) {
     TriangleHitParams p;
     return intersectTriangle(wr, soup.corners[3 * i], soup.corners[3 * i + 1],
                              soup.corners[3 * i + 2], tBest, p);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <limits>
 
 namespace lray {
@@ -19,27 +20,41 @@ Vec3f toFloat(const Vec3 &v) {
 }
 Vec3 toDouble(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
+template <int Kz> uint32_t packetPass(const PrefilterRay &fray, const TrianglePacket &packet) {
+  return prefilterPacket<Kz>(fray, packet);
+}
+template <int Kz>
+uint64_t leafPass(const PrefilterRay &fray, const TrianglePacket *packets, uint32_t count) {
+  return prefilterLeafAvx2<Kz>(fray, packets, count);
+}
+
+uint32_t packetPassFor(int kz, const PrefilterRay &fray, const TrianglePacket &packet) {
+  return kz == 0 ? packetPass<0>(fray, packet)
+         : kz == 1 ? packetPass<1>(fray, packet)
+                   : packetPass<2>(fray, packet);
+}
+uint64_t leafPassFor(int kz, const PrefilterRay &fray, const TrianglePacket *packets,
+                     uint32_t count) {
+  return kz == 0 ? leafPass<0>(fray, packets, count)
+         : kz == 1 ? leafPass<1>(fray, packets, count)
+                   : leafPass<2>(fray, packets, count);
+}
+
 // The SSE prefilter's verdict; where the CPU has AVX2, also checks that the
-// eight-lane version gives the same verdict for each of two copies.
+// whole-leaf version gives the same verdict for each copy of the packet in
+// leaves of 1 to 64 triangles (the bits past the count cleared).
 uint32_t prefilter(const WatertightRay &ray, const Bounds3 &box, const TrianglePacket &packet) {
   PrefilterRay fray(ray, box);
-  const TrianglePacket pair[2] = {packet, packet};
-  uint32_t pass = 0, pairPass = 0;
-  switch (ray.kz) {
-  case 0:
-    pass = prefilterPacket<0>(fray, packet);
-    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<0>(fray, pair);
-    break;
-  case 1:
-    pass = prefilterPacket<1>(fray, packet);
-    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<1>(fray, pair);
-    break;
-  default:
-    pass = prefilterPacket<2>(fray, packet);
-    if (cpuHasAvx2()) pairPass = prefilterPacketPairAvx2<2>(fray, pair);
-  }
+  const uint32_t pass = packetPassFor(ray.kz, fray, packet);
   if (cpuHasAvx2()) {
-    EXPECT_EQ(pairPass, pass | pass << 4);
+    TrianglePacket leaf[16];
+    for (TrianglePacket &p : leaf) p = packet;
+    uint64_t expected = 0;
+    for (int i = 0; i < 16; ++i) expected |= uint64_t{pass} << (4 * i);
+    for (uint32_t count : {1u, 3u, 4u, 5u, 8u, 9u, 13u, 33u, 63u, 64u}) {
+      const uint64_t mask = count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+      EXPECT_EQ(leafPassFor(ray.kz, fray, leaf, count), expected & mask) << count;
+    }
   }
   return pass;
 }
@@ -112,6 +127,44 @@ TEST(TrianglePrefilter, KeepsHitsOfSmallTrianglesFarFromTheOrigin) {
     Counts c = probe(2, {offset, -offset, 0.5 * offset}, 1e-3 * offset * 1e-3, 1e-3 * offset);
     EXPECT_GT(c.hits, 2000) << offset;
   }
+}
+
+// A leaf of 16 different packets: each triangle's bit in the whole-leaf
+// AVX2 result is its own packet's SSE verdict, for every leaf size.
+TEST(TrianglePrefilter, WholeLeafMatchesPacketByPacket) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  Rng rng(3);
+  int kept = 0, rejected = 0;
+  for (int round = 0; round < 200; ++round) {
+    TrianglePacket leaf[16];
+    Bounds3 box;
+    for (TrianglePacket &packet : leaf)
+      for (int lane = 0; lane < 4; ++lane) {
+        Vec3 c = rng.inBox({-3, -3, -3}, {3, 3, 3});
+        Vec3f p[3];
+        for (Vec3f &q : p) {
+          q = toFloat(c + rng.direction());
+          box.extend(toDouble(q));
+        }
+        packet.set(lane, p[0], p[1], p[2]);
+      }
+    Vec3 target = rng.inBox({-2, -2, -2}, {2, 2, 2});
+    Vec3 origin = target + rng.direction() * 8;
+    WatertightRay wray(Ray{origin, target - origin});
+    PrefilterRay fray(wray, box);
+    uint64_t expected = 0;
+    for (int i = 0; i < 16; ++i)
+      expected |= uint64_t{packetPassFor(wray.kz, fray, leaf[i])} << (4 * i);
+    for (uint32_t count = 1; count <= 64; ++count) {
+      const uint64_t mask = count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+      ASSERT_EQ(leafPassFor(wray.kz, fray, leaf, count), expected & mask) << round << " " << count;
+    }
+    kept += std::popcount(expected);
+    rejected += 64 - std::popcount(expected);
+  }
+  // Both verdicts occur (the comparison is not between all-ones masks).
+  EXPECT_GT(kept, 50);
+  EXPECT_GT(rejected, 5000);
 }
 
 TEST(TrianglePrefilter, PassesEverythingOutOfFloatRange) {

@@ -62,7 +62,6 @@ private:
   uint32_t next_ = 0;
 };
 
-constexpr uint32_t kPacketLanes = 4;
 // Leaves of at most this many triangles skip the prefilter (two exact
 // tests cost less than a packet test and the prefilter ray's setup).
 constexpr uint32_t kDirectTestLimit = 2;
@@ -80,12 +79,15 @@ KdTree buildMeshTree(const MeshData &mesh) {
   // earlier still as the tree outgrows the caches (a step down costs more).
   // With the float prefilter (eight leaf triangles per AVX2 test)
   // bench_kd_rays on the bumpy sphere was fastest at traversal cost 120
-  // below 2^18 triangles (100 triangles: 2-5 % fewer ns per ray than 60)
-  // and 240 above (1M triangles: 10-14 % fewer than 120, 2.3x fewer nodes,
-  // 20 % less memory; the depth limit and empty-space factor did nothing).
+  // on small meshes (100 triangles: 2-5 % fewer ns per ray than 60; 240
+  // was 20 % slower there) and 240 on large ones (1M triangles: 10-14 %
+  // fewer than 120, 2.3x fewer nodes, 20 % less memory; the depth limit
+  // and empty-space factor did nothing). With the start-side descent the
+  // switch moved from 2^18 down to 2^15 triangles: at 10^5, 240 gave
+  // incoherent rays 5-7 % fewer ns than 120, and 10^4 was the same.
   KdBuildOptions options;
   options.leafAlignment = kPacketLanes;
-  options.cost.traversalCost = n < (size_t{1} << 18) ? 120 : 240;
+  options.cost.traversalCost = n < (size_t{1} << 15) ? 120 : 240;
   return KdTree::build(
       bounds,
       [&mesh](uint32_t i, const Bounds3 &box) {
@@ -153,10 +155,11 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
         mt.tree.memoryBytes() + mt.packets.capacity() * sizeof(TrianglePacket);
 }
 
-// Inlined, with its lambdas, into both levels' callers: as calls of their
-// own they cost gallery scenes (rays into small meshes, a floor in every
-// scene) 10-20 % more instructions than the code before the prefilter.
-template <bool AnyHit>
+// Inlined, with the ray-axis lambda, into both levels' callers: as calls of
+// their own they cost gallery scenes (rays into small meshes, a floor in
+// every scene) 10-20 % more instructions than the code before the
+// prefilter. The leaf test is a call of its own (see below).
+template <bool AnyHit, KdRays Rays>
 [[gnu::always_inline]] inline bool KdTreeAccelerator::intersectMesh(const Instance &inst,
                                                                     const Ray &ray, double &tBest,
                                                                     MeshHit &hit) const {
@@ -170,23 +173,28 @@ template <bool AnyHit>
   const TrianglePacket *packets = mt.packets.data();
   return withRayAxis(wray.kz, [&](auto axis) __attribute__((always_inline)) {
     constexpr int kz = decltype(axis)::value;
-    return mt.tree.traverseLeaves<AnyHit>(
+    return mt.tree.traverseLeaves<AnyHit, Rays>(
         objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
-          // Packets of four leaf references, two at a time where the CPU has
-          // AVX2: the float prefilter keeps the triangles that may be hit,
-          // the exact test decides them in order.
+          // Packets of four leaf references, eight at a time in one call
+          // where the CPU has AVX2: the float prefilter keeps the triangles
+          // that may be hit, the exact test decides them in order.
           bool hitHere = false;
           const TrianglePacket *group = packets + offset / kPacketLanes;
           const bool direct = count <= kDirectTestLimit;
-          for (uint32_t first = 0; first < count;) {
-            const bool pair = useAvx2_ && count - first > kPacketLanes;
-            uint32_t lanes = direct ? 0xfu
-                             : pair ? prefilterPacketPairAvx2<kz>(fray, group)
-                                    : prefilterPacket<kz>(fray, *group);
-            const uint32_t width = pair ? 2 * kPacketLanes : kPacketLanes;
-            if (count - first < width) lanes &= (1u << (count - first)) - 1;
+          // Up to 64 references per prefilter call (one call for the
+          // whole leaf with AVX2; packet by packet otherwise).
+          for (uint32_t first = 0; first < count; first += 64, group += 64 / kPacketLanes) {
+            const uint32_t n = std::min(count - first, 64u);
+            uint64_t lanes = 0;
+            if (direct) lanes = (uint64_t{1} << n) - 1;
+            else if (useAvx2_) lanes = prefilterLeafAvx2<kz>(fray, group, n);
+            else {
+              for (uint32_t p = 0; p * kPacketLanes < n; ++p)
+                lanes |= uint64_t{prefilterPacket<kz>(fray, group[p])} << (p * kPacketLanes);
+              if (n < 64) lanes &= (uint64_t{1} << n) - 1;
+            }
             for (; lanes != 0; lanes &= lanes - 1) {
-              const uint32_t lane = std::countr_zero(lanes);
+              const uint32_t lane = static_cast<uint32_t>(std::countr_zero(lanes));
               const TrianglePacket &packet = group[lane / kPacketLanes];
               const int k = lane % kPacketLanes;
               TriangleHitParams params;
@@ -198,15 +206,13 @@ template <bool AnyHit>
               if (AnyHit) return true;
               hitHere = true;
             }
-            first += width;
-            group += width / kPacketLanes;
           }
           return hitHere;
         });
   });
 }
 
-bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
+template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit &hit) const {
   // The nearest triangle is only recorded during traversal (as its leaf
   // reference); its Hit is filled once at the end. Analytic shapes write
   // theirs into `hit` as they are found (a nearer find overwrites it).
@@ -231,7 +237,7 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
       return true;
     }
     MeshHit meshHit;
-    if (!intersectMesh<false>(inst, ray, tBest, meshHit)) return false;
+    if (!intersectMesh<false, Rays>(inst, ray, tBest, meshHit)) return false;
     best = {inst.entity, inst.meshTree, meshHit};
     bestIsTriangle = true;
     return true;
@@ -241,7 +247,7 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   Mailbox mailbox;
   bool found = instances_.size() == 1
                    ? testInstance(0, tMax)
-                   : top_.traverse<false>(ray, tMax, [&](uint32_t prim, double &tBest) {
+                   : top_.traverse<false, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
                        return mailbox.firstVisit(prim) && testInstance(prim, tBest);
                      });
   if (!found) return false;
@@ -253,30 +259,39 @@ bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   return true;
 }
 
-bool KdTreeAccelerator::occluded(const Ray &ray) const {
+template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const {
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
     if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
     double tObject = ray.tMax;
     MeshHit unused;
-    return intersectMesh<true>(inst, ray, tObject, unused);
+    return intersectMesh<true, Rays>(inst, ray, tObject, unused);
   };
   double tMax = ray.tMax;
   Mailbox mailbox;
   return instances_.size() == 1
              ? testInstance(0, tMax)
-             : top_.traverse<true>(ray, tMax, [&](uint32_t prim, double &tBest) {
+             : top_.traverse<true, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
                  return mailbox.firstVisit(prim) && testInstance(prim, tBest);
                });
 }
 
+bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
+  return intersectRay<KdRays::Incoherent>(ray, hit);
+}
+
+bool KdTreeAccelerator::occluded(const Ray &ray) const {
+  return occludedRay<KdRays::Incoherent>(ray);
+}
+
 void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
                                           uint8_t *found) const {
-  for (size_t i = 0; i < count; ++i) found[i] = intersect(rays[i], hits[i]) ? 1 : 0;
+  for (size_t i = 0; i < count; ++i)
+    found[i] = intersectRay<KdRays::Coherent>(rays[i], hits[i]) ? 1 : 0;
 }
 
 void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
-  for (size_t i = 0; i < count; ++i) occluded[i] = this->occluded(rays[i]) ? 1 : 0;
+  for (size_t i = 0; i < count; ++i) occluded[i] = occludedRay<KdRays::Coherent>(rays[i]) ? 1 : 0;
 }
 
 } // namespace lray

@@ -25,7 +25,9 @@ public:
 
   bool intersect(const Ray &ray, Hit &hit) const override;
   bool occluded(const Ray &ray) const override;
-  /// Loops over single rays (the kd-tree has no packet traversal).
+  /// Loops over single rays (the kd-tree has no packet traversal), by the
+  /// tree walk whose branches predict well on neighbouring rays
+  /// (KdRays::Coherent; single rays take the Incoherent one).
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
   /// primitives: analytic shapes + triangles of the distinct meshes;
@@ -66,8 +68,11 @@ private:
   };
   /// The nearest (AnyHit: any) triangle of a mesh instance with t in
   /// (ray.tMin, tBest), `ray` in world space; lowers tBest to a hit's t.
-  template <bool AnyHit>
+  template <bool AnyHit, KdRays Rays>
   bool intersectMesh(const Instance &inst, const Ray &ray, double &tBest, MeshHit &hit) const;
+  /// intersect() and occluded() by either walk of the trees.
+  template <KdRays Rays> bool intersectRay(const Ray &ray, Hit &hit) const;
+  template <KdRays Rays> bool occludedRay(const Ray &ray) const;
 
   const Scene &scene_;
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so

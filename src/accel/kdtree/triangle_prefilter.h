@@ -119,12 +119,17 @@ inline uint32_t prefilterPacket(const PrefilterRay &ray, const TrianglePacket &p
   return ~static_cast<uint32_t>(_mm_movemask_ps(_mm_and_ps(pos, neg))) & 0xfu;
 }
 
-/// True when the CPU runs AVX2 (prefilterPacketPairAvx2 may be called).
+/// Triangles in one packet.
+constexpr uint32_t kPacketLanes = 4;
+
+/// True when the CPU runs AVX2 (prefilterLeafAvx2 may be called).
 bool cpuHasAvx2();
 
-/// prefilterPacket for packets[0] and packets[1] at once (bits 0-3 and 4-7),
-/// with AVX2: call only where cpuHasAvx2().
+/// prefilterPacket for the first `count` (1 to 64) triangles of consecutive
+/// packets (bit i: triangle i), eight at a time with AVX2 in one call: call
+/// only where cpuHasAvx2().
 template <int Kz>
-uint32_t prefilterPacketPairAvx2(const PrefilterRay &ray, const TrianglePacket *packets);
+uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packets,
+                           uint32_t count);
 
 } // namespace lray

@@ -46,7 +46,8 @@ void renderTiles(const Scene &scene, const Accel &accel, const ImageCache &image
     std::array<Hit, kTilePixels> hits;
     std::array<uint8_t, kTilePixels> found;
     std::array<Sampler, kTilePixels> samplers;
-    std::array<Color, kTilePixels> sums;
+    std::array<Color, kTilePixels> sums, colors;
+    static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
     RayCounts &local = perThread.local();
     for (size_t tile = r.begin(); tile != r.end(); ++tile) {
       const int x0 = static_cast<int>(tile % tilesX) * kTileSize;
@@ -68,9 +69,10 @@ void renderTiles(const Scene &scene, const Accel &accel, const ImageCache &image
         }
         accel.intersectCoherent(rays.data(), count, hits.data(), found.data());
         local.camera += count;
+        integrator.shadeTile(rays.data(), hits.data(), found.data(), samplers.data(), count,
+                             colors.data(), local);
         for (size_t i = 0; i < count; ++i) {
-          Color c = found[i] ? integrator.shadeHit(rays[i], hits[i], samplers[i], local)
-                             : integrator.background();
+          Color c = colors[i];
           if (!isFinite(c)) {
             ++local.nonFinite;
             c = Color();

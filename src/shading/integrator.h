@@ -17,6 +17,8 @@
 #include "shading/ray_counts.h"
 
 #include <algorithm>
+#include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -55,6 +57,18 @@ public:
   Color shadeHit(const Ray &ray, const Hit &hit, Sampler &sampler, RayCounts &counts) const {
     return shade(ray, hit, 0, 1.0, sampler, counts);
   }
+
+  /// Most camera rays of one shadeTile call.
+  static constexpr size_t kMaxTileRays = 256;
+
+  /// shadeHit for the camera rays of a tile at once: out[i] is the colour
+  /// of ray i (the background where found[i] is 0), with the same values,
+  /// sampler draws and counts as shadeHit ray by ray. The camera hits'
+  /// shadow rays go to the accelerator as one coherent batch per light
+  /// sample (occludedCoherent: neighbouring pixels' rays to one point of a
+  /// light). count <= kMaxTileRays.
+  void shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found, Sampler *samplers,
+                 size_t count, Color *out, RayCounts &counts) const;
 
   /// Colour along any world-space ray: traces it (not counted) and shades
   /// the closest hit, or returns the background when it misses.
@@ -97,11 +111,38 @@ private:
     return shade(ray, hit, depth, weight, sampler, counts);
   }
 
+  /// What shading needs of a hit before any ray is traced.
+  struct Surface {
+    const Material *m = nullptr;
+    bool entering = false; ///< the ray arrives from the geometric normal's side
+    Vec3 n, dir, v;        ///< N (facing the ray), normalize(ray.d), V
+    Color pigment;
+  };
+  Surface surfaceAt(const Ray &ray, const Hit &hit) const;
+
   Color shade(const Ray &ray, const Hit &hit, int depth, double weight, Sampler &sampler,
               RayCounts &counts) const;
 
   Color directLight(const Hit &hit, const Vec3 &n, const Vec3 &v, const Color &pigment,
                     const Material &m, Sampler &sampler, RayCounts &counts) const;
+
+  /// The light a sample reaching the surface unblocked adds, before the
+  /// light's weighted colour: diffuse N.L plus the specular highlight.
+  static Color sampleColor(const Vec3 &n, const Vec3 &v, const Vec3 &l, double nl,
+                           const Color &diffuseColor, const Material &m) {
+    Color c = diffuseColor * nl;
+    if (m.finish.specular != 0) {
+      Vec3 r = n * (2 * nl) - l;
+      double s = m.finish.specular * specularPower(dot(r, v), m);
+      c += Color(s, s, s);
+    }
+    return c;
+  }
+
+  /// shade after the ambient and direct light (`c`): adds what the
+  /// reflected and refracted rays bring.
+  Color addSecondary(const Hit &hit, const Surface &s, Color c, int depth, double weight,
+                     Sampler &sampler, RayCounts &counts) const;
 
   const Accel &accel_;
   Color background_;
@@ -168,9 +209,8 @@ template <class Accel>
 Color Integrator<Accel>::directLight(const Hit &hit, const Vec3 &n, const Vec3 &v,
                                      const Color &pigment, const Material &m, Sampler &sampler,
                                      RayCounts &counts) const {
-  const Finish &finish = m.finish;
   Color sum;
-  Color diffuseColor = pigment * finish.diffuse;
+  Color diffuseColor = pigment * m.finish.diffuse;
   for (const LightSamples &light : lights_) {
     for (int row = 0; row < light.rows; ++row) {
       for (int col = 0; col < light.cols; ++col) {
@@ -188,13 +228,7 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Vec3 &n, const Vec3 &
         if (nl <= 0) continue; // faces away: no shadow ray needed
         ++counts.shadow;
         if (accel_.occluded(spawnRayTo(hit, target))) continue;
-        Color c = diffuseColor * nl;
-        if (finish.specular != 0) {
-          Vec3 r = n * (2 * nl) - l;
-          double s = finish.specular * specularPower(dot(r, v), m);
-          c += Color(s, s, s);
-        }
-        sum += light.weightedColor * c;
+        sum += light.weightedColor * sampleColor(n, v, l, nl, diffuseColor, m);
       }
     }
   }
@@ -202,30 +236,113 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Vec3 &n, const Vec3 &
 }
 
 template <class Accel>
+typename Integrator<Accel>::Surface Integrator<Accel>::surfaceAt(const Ray &ray,
+                                                                 const Hit &hit) const {
+  Surface s;
+  s.m = &materials_[hit.entity < entityMaterial_.size() ? entityMaterial_[hit.entity]
+                                                        : materials_.size() - 1];
+  // Which side the ray arrives from is decided by the geometric normal.
+  s.entering = dot(ray.d, hit.ng) < 0;
+  s.n = s.entering ? hit.ns : -hit.ns;
+  s.dir = normalize(ray.d);
+  s.v = -s.dir;
+  s.pigment = evaluatePigment(pigmentTable_, s.m->pigment, hit);
+  return s;
+}
+
+template <class Accel>
 Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double weight,
                                Sampler &sampler, RayCounts &counts) const {
-  const Material &m = materials_[hit.entity < entityMaterial_.size()
-                                     ? entityMaterial_[hit.entity]
-                                     : materials_.size() - 1];
+  const Surface s = surfaceAt(ray, hit);
+  Color c = s.pigment * s.m->finish.ambient;
+  if (s.m->lit) c += directLight(hit, s.n, s.v, s.pigment, *s.m, sampler, counts);
+  return addSecondary(hit, s, c, depth, weight, sampler, counts);
+}
+
+template <class Accel>
+void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
+                                  Sampler *samplers, size_t count, Color *out,
+                                  RayCounts &counts) const {
+  assert(count <= kMaxTileRays);
+  std::array<Surface, kMaxTileRays> surface;
+  std::array<Color, kMaxTileRays> lightSum; // directLight's sum, per ray
+  for (size_t i = 0; i < count; ++i) {
+    if (!found[i]) continue;
+    surface[i] = surfaceAt(rays[i], hits[i]);
+    lightSum[i] = Color();
+  }
+  // directLight for all rays at once, light sample by light sample: the
+  // same order of sampler draws and sums per ray as ray by ray.
+  struct Pending {
+    uint32_t ray;
+    double nl;
+    Vec3 l;
+  };
+  std::array<Pending, kMaxTileRays> pending;
+  std::array<Ray, kMaxTileRays> shadowRays;
+  std::array<uint8_t, kMaxTileRays> blocked;
+  for (const LightSamples &light : lights_) {
+    for (int row = 0; row < light.rows; ++row) {
+      for (int col = 0; col < light.cols; ++col) {
+        size_t n = 0;
+        for (size_t i = 0; i < count; ++i) {
+          if (!found[i] || !surface[i].m->lit) continue;
+          double fx = 0.5, fz = 0.5;
+          if (light.area) {
+            fx = samplers[i].next();
+            fz = samplers[i].next();
+          }
+          Vec3 target = light.samplePoint(row, col, fx, fz);
+          Vec3 toLight = target - hits[i].p;
+          double dist = length(toLight);
+          if (!(dist > 0)) continue;
+          Vec3 l = toLight / dist;
+          double nl = dot(surface[i].n, l);
+          if (nl <= 0) continue; // faces away: no shadow ray needed
+          ++counts.shadow;
+          pending[n] = {static_cast<uint32_t>(i), nl, l};
+          shadowRays[n] = spawnRayTo(hits[i], target);
+          ++n;
+        }
+        if (n == 0) continue;
+        accel_.occludedCoherent(shadowRays.data(), n, blocked.data());
+        for (size_t k = 0; k < n; ++k) {
+          if (blocked[k]) continue;
+          const Pending &p = pending[k];
+          const Surface &s = surface[p.ray];
+          const Color diffuseColor = s.pigment * s.m->finish.diffuse;
+          lightSum[p.ray] += light.weightedColor * sampleColor(s.n, s.v, p.l, p.nl, diffuseColor,
+                                                               *s.m);
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < count; ++i) {
+    if (!found[i]) {
+      out[i] = background_;
+      continue;
+    }
+    const Surface &s = surface[i];
+    Color c = s.pigment * s.m->finish.ambient;
+    if (s.m->lit) c += lightSum[i];
+    out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts);
+  }
+}
+
+template <class Accel>
+Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c, int depth,
+                                      double weight, Sampler &sampler, RayCounts &counts) const {
+  const Material &m = *s.m;
   const Finish &f = m.finish;
-  // Which side the ray arrives from is decided by the geometric normal.
-  bool entering = dot(ray.d, hit.ng) < 0;
-  Vec3 n = entering ? hit.ns : -hit.ns;
-  Vec3 dir = normalize(ray.d);
-  Vec3 v = -dir;
-
-  Color pigment = evaluatePigment(pigmentTable_, m.pigment, hit);
-  Color c = pigment * f.ambient;
-  if (m.lit) c += directLight(hit, n, v, pigment, m, sampler, counts);
-
   if ((!m.reflects && !m.refracts) || depth >= kMaxDepth) return c;
 
+  const Vec3 &n = s.n, &dir = s.dir;
   double dn = dot(dir, n);
   Vec3 mirrorDir = dir - n * (2 * dn);
   double kr = m.reflects ? f.reflection : 0;
 
   if (m.refracts && f.refraction * weight >= kBailout) {
-    double eta = entering ? 1.0 / f.refractionIndex : f.refractionIndex;
+    double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
     double cosI = std::clamp(-dn, 0.0, 1.0);
     double k = 1 - eta * eta * (1 - cosI * cosI);
     if (k < 0) {
@@ -239,7 +356,7 @@ Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double
       double d = 0; // distance travelled inside the object
       if (accel_.intersect(refracted, next)) {
         seen = shade(refracted, next, depth + 1, weight * f.refraction, sampler, counts);
-        if (entering) d = next.t; // tDir is unit, so t is a distance
+        if (s.entering) d = next.t; // tDir is unit, so t is a distance
       }
       double attenuation = d > 0 ? std::exp(-std::max(0.0, f.absorption) * d) : 1.0;
       c += seen * (f.refraction * attenuation);

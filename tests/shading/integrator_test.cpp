@@ -242,6 +242,77 @@ TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
   EXPECT_EQ(c1.reflection, 1u);
 }
 
+// shadeTile batches the camera hits' shadow rays light sample by light
+// sample (occludedCoherent); every colour, count and sampler draw must be
+// what shadeHit gives ray by ray: a lit floor partly shadowed by spheres
+// under a point light and a jittered area light, a mirror and a glass
+// sphere (secondary rays with their own shadow rays), and rays that miss.
+TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish shiny;
+  shiny.specular = 0.6;
+  shiny.exponent = 20;
+  Finish mirror = shiny;
+  mirror.reflection = 0.7;
+  Finish glass = dark();
+  glass.refraction = 0.9;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0.3;
+  b.quad(Transform::scale(6, 1, 6) * Transform::translate({0, -1, 0}),
+         b.texture(shiny, {0.8, 0.7, 0.6}));
+  b.add(ShapeKind::Sphere, Transform::translate({-1.2, 0, 0}), b.texture(mirror, {0.3, 0.6, 0.9}));
+  b.add(ShapeKind::Sphere, Transform::translate({1.2, 0, 0.5}), b.texture(glass));
+  b.add(ShapeKind::Sphere, Transform::translate({0, 0.2, 2}) * Transform::scale(0.5, 0.5, 0.5),
+        b.texture(Finish{}, kRed));
+  b.light(Transform::translate({3, 5, -4}), {0.8, 0.8, 0.8});
+  b.light(Transform::translate({-2, 4, -2}) * Transform::scale(1.5, 1, 1.5), {0.5, 0.5, 0.6}, 2,
+          3, true);
+  BruteForceAccelerator accel(b.scene, GetParam());
+  ImageCache images(false);
+  Integ integrator(b.scene, accel, images);
+
+  constexpr size_t kSide = 16, kCount = kSide * kSide;
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < kCount; ++i) {
+    const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
+    const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
+    rays.push_back(rayFrom({0, 1.5, -7}, {x * 0.4, y * 0.3 - 0.15, 1}));
+  }
+  std::vector<Hit> hits(kCount);
+  std::vector<uint8_t> found(kCount);
+  accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
+  std::vector<Sampler> tileSamplers, raySamplers;
+  for (size_t i = 0; i < kCount; ++i) {
+    tileSamplers.emplace_back(7, i, 0);
+    raySamplers.emplace_back(7, i, 0);
+  }
+  std::vector<Color> tile(kCount);
+  RayCounts tileCounts, rayCounts;
+  integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
+                       tile.data(), tileCounts);
+  size_t misses = 0, dark = 0;
+  for (size_t i = 0; i < kCount; ++i) {
+    const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
+                                                          rayCounts)
+                                    : integrator.background();
+    EXPECT_EQ(tile[i], expected) << "ray " << i;
+    // Both consumed the same draws: their next ones agree.
+    EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
+    misses += !found[i];
+    dark += found[i] && tile[i].r < 0.2;
+  }
+  EXPECT_EQ(tileCounts.shadow, rayCounts.shadow);
+  EXPECT_EQ(tileCounts.reflection, rayCounts.reflection);
+  EXPECT_EQ(tileCounts.refraction, rayCounts.refraction);
+  // The scene exercises what it should: misses, shadows, both secondary kinds.
+  EXPECT_GT(misses, 10u);
+  EXPECT_GT(dark, 5u);
+  EXPECT_GT(rayCounts.shadow, 2 * kCount);
+  EXPECT_GT(rayCounts.reflection, 10u);
+  EXPECT_GT(rayCounts.refraction, 10u);
+}
+
 TEST_P(IntegratorTest, RefractingSlabAbsorbsAlongItsThickness) {
   SceneBuilder b;
   b.scene.background = kSky;

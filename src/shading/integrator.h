@@ -120,6 +120,21 @@ private:
   };
   Surface surfaceAt(const Ray &ray, const Hit &hit) const;
 
+  /// shadeTile's working arrays: per ray, and per shadow ray of one light
+  /// sample (`ray` indexes the tile's rays).
+  struct TileScratch {
+    struct Pending {
+      uint32_t ray;
+      double nl;
+      Vec3 l;
+    };
+    std::array<Surface, kMaxTileRays> surface;
+    std::array<Color, kMaxTileRays> lightSum;
+    std::array<Pending, kMaxTileRays> pending;
+    std::array<Ray, kMaxTileRays> shadowRays;
+    std::array<uint8_t, kMaxTileRays> blocked;
+  };
+
   Color shade(const Ray &ray, const Hit &hit, int depth, double weight, Sampler &sampler,
               RayCounts &counts) const;
 
@@ -264,8 +279,14 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
                                   Sampler *samplers, size_t count, Color *out,
                                   RayCounts &counts) const {
   assert(count <= kMaxTileRays);
-  std::array<Surface, kMaxTileRays> surface;
-  std::array<Color, kMaxTileRays> lightSum; // directLight's sum, per ray
+  // Per-thread scratch: arrays of this size constructed on every call
+  // cost the gallery scenes 2-3 % of their render time.
+  static thread_local TileScratch scratch;
+  auto &surface = scratch.surface;
+  auto &lightSum = scratch.lightSum; // directLight's sum, per ray
+  auto &pending = scratch.pending;
+  auto &shadowRays = scratch.shadowRays;
+  auto &blocked = scratch.blocked;
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) continue;
     surface[i] = surfaceAt(rays[i], hits[i]);
@@ -273,14 +294,6 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   }
   // directLight for all rays at once, light sample by light sample: the
   // same order of sampler draws and sums per ray as ray by ray.
-  struct Pending {
-    uint32_t ray;
-    double nl;
-    Vec3 l;
-  };
-  std::array<Pending, kMaxTileRays> pending;
-  std::array<Ray, kMaxTileRays> shadowRays;
-  std::array<uint8_t, kMaxTileRays> blocked;
   for (const LightSamples &light : lights_) {
     for (int row = 0; row < light.rows; ++row) {
       for (int col = 0; col < light.cols; ++col) {
@@ -308,7 +321,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
         accel_.occludedCoherent(shadowRays.data(), n, blocked.data());
         for (size_t k = 0; k < n; ++k) {
           if (blocked[k]) continue;
-          const Pending &p = pending[k];
+          const auto &p = pending[k];
           const Surface &s = surface[p.ray];
           const Color diffuseColor = s.pigment * s.m->finish.diffuse;
           lightSum[p.ray] += light.weightedColor * sampleColor(s.n, s.v, p.l, p.nl, diffuseColor,

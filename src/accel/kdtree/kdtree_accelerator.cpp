@@ -291,7 +291,12 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
 }
 
 void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
-  for (size_t i = 0; i < count; ++i) occluded[i] = occludedRay<KdRays::Coherent>(rays[i]) ? 1 : 0;
+  // The incoherent walk (the start-side descent in large trees): shadow
+  // rays to one light from neighbouring hits, which mostly reach the light,
+  // took 10 % less time that way on 10^6 triangles in bench_kd_rays and
+  // the same on 10^5 (camera rays, which stop at their first hit, did
+  // better by the general loop).
+  for (size_t i = 0; i < count; ++i) occluded[i] = occludedRay<KdRays::Incoherent>(rays[i]) ? 1 : 0;
 }
 
 } // namespace lray

@@ -25,9 +25,10 @@ public:
 
   bool intersect(const Ray &ray, Hit &hit) const override;
   bool occluded(const Ray &ray) const override;
-  /// Loops over single rays (the kd-tree has no packet traversal), by the
-  /// tree walk whose branches predict well on neighbouring rays
-  /// (KdRays::Coherent; single rays take the Incoherent one).
+  /// Loops over single rays (the kd-tree has no packet traversal): camera
+  /// rays by the tree walk whose branches predict well on neighbouring rays
+  /// (KdRays::Coherent; single rays take the Incoherent one), shadow rays
+  /// as single rays do (see occludedCoherent).
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
   /// primitives: analytic shapes + triangles of the distinct meshes;

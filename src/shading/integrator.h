@@ -118,7 +118,9 @@ private:
     Vec3 n, dir, v;        ///< N (facing the ray), normalize(ray.d), V
     Color pigment;
   };
-  Surface surfaceAt(const Ray &ray, const Hit &hit) const;
+  /// Fills `s` in place (a Surface returned by value and then copied into
+  /// shadeTile's array cost a store-forwarding stall per field).
+  void surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const;
 
   /// shadeTile's working arrays: per ray, and per shadow ray of one light
   /// sample (`ray` indexes the tile's rays).
@@ -251,9 +253,7 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Vec3 &n, const Vec3 &
 }
 
 template <class Accel>
-typename Integrator<Accel>::Surface Integrator<Accel>::surfaceAt(const Ray &ray,
-                                                                 const Hit &hit) const {
-  Surface s;
+void Integrator<Accel>::surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const {
   s.m = &materials_[hit.entity < entityMaterial_.size() ? entityMaterial_[hit.entity]
                                                         : materials_.size() - 1];
   // Which side the ray arrives from is decided by the geometric normal.
@@ -262,13 +262,13 @@ typename Integrator<Accel>::Surface Integrator<Accel>::surfaceAt(const Ray &ray,
   s.dir = normalize(ray.d);
   s.v = -s.dir;
   s.pigment = evaluatePigment(pigmentTable_, s.m->pigment, hit);
-  return s;
 }
 
 template <class Accel>
 Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double weight,
                                Sampler &sampler, RayCounts &counts) const {
-  const Surface s = surfaceAt(ray, hit);
+  Surface s;
+  surfaceAt(ray, hit, s);
   Color c = s.pigment * s.m->finish.ambient;
   if (s.m->lit) c += directLight(hit, s.n, s.v, s.pigment, *s.m, sampler, counts);
   return addSecondary(hit, s, c, depth, weight, sampler, counts);
@@ -289,7 +289,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   auto &blocked = scratch.blocked;
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) continue;
-    surface[i] = surfaceAt(rays[i], hits[i]);
+    surfaceAt(rays[i], hits[i], surface[i]);
     lightSum[i] = Color();
   }
   // directLight for all rays at once, light sample by light sample: the

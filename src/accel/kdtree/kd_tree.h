@@ -169,6 +169,11 @@ private:
     }
     return ok;
   }
+  // A cell waiting on the traversal stack: node and segment.
+  struct Todo {
+    uint32_t node;
+    double tMin, tMax;
+  };
   // False when the ray misses the root box (or the tree is empty).
   bool clipToBounds(const Ray &ray, double tMax, RaySetup &r) const;
   // The general loop: t-rule decisions at every node, any direction.
@@ -264,10 +269,6 @@ template <bool AnyHit, class LeafTest>
   // 10^4-10^6 triangles) it took secondary rays 13-18 % less time than the
   // general loop, shadow rays to one light (neighbours in 8x8 blocks) 10 %
   // less at 10^6 but up to 5 % more at 10^4 (bench/README.md).
-  struct Todo {
-    uint32_t node;
-    double tMin, tMax;
-  };
   Todo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0;
@@ -339,10 +340,6 @@ template <bool AnyHit, class LeafTest>
 template <bool AnyHit, class LeafTest>
 [[gnu::always_inline]] inline bool KdTree::walkGeneral(const RaySetup &r, double &tMax,
                                                      LeafTest &testLeaf) const {
-  struct Todo {
-    uint32_t node;
-    double tMin, tMax;
-  };
   Todo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0;

@@ -3,9 +3,9 @@
 // leaf's packets per call (the ray's constants loaded once), compiled
 // for AVX2 here only and called after a runtime check. Every lane performs
 // the SSE version's operations in the same order, so the error bound holds
-// as derived there. Only this file's own function is compiled for AVX2:
-// the headers come before the target pragma, so no inline function they
-// define can get an AVX2 copy that the linker might pick for other callers.
+// as derived there. Only this file's own functions are compiled for AVX2
+// (by attribute, one by one), so no inline function of a header gets an
+// AVX2 copy that the linker might pick for other callers.
 #include "accel/kdtree/triangle_prefilter.h"
 
 #include <immintrin.h>
@@ -17,46 +17,47 @@ bool cpuHasAvx2() {
   return __builtin_cpu_supports("avx2");
 }
 
-#pragma GCC push_options
-#pragma GCC target("avx2")
+// Every function below carries the target attribute (GCC and clang both
+// honour it; clang ignores GCC's target pragma). Helpers rather than
+// lambdas: a lambda would not inherit the target.
+#define LRAY_AVX2 __attribute__((target("avx2")))
 
 namespace {
 
-// (Helpers rather than lambdas: lambdas would not inherit the target.)
-__m256 loadPair(const TrianglePacket *packets, int c, int axis) {
+LRAY_AVX2 __m256 loadPair(const TrianglePacket *packets, int c, int axis) {
   return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(packets[0].v[c][axis])),
                               _mm_load_ps(packets[1].v[c][axis]), 1);
 }
-__m256 bcast(const float &v) { return _mm256_broadcast_ss(&v); }
-__m256 gt(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+// One packet's coordinates in the low four lanes (the high four unused).
+LRAY_AVX2 __m256 loadOne(const TrianglePacket *packets, int c, int axis) {
+  return _mm256_castps128_ps256(_mm_load_ps(packets[0].v[c][axis]));
+}
+LRAY_AVX2 __m256 bcast(const float &v) { return _mm256_broadcast_ss(&v); }
+LRAY_AVX2 __m256 gt(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
 
-} // namespace
-
-namespace {
-
-// The prefilter of eight triangles (two packets) or, with Width 4, of one
-// packet in the low lanes; the ray's constants come in registers.
+// The ray's constants in registers, loaded once per leaf.
 struct RayLanes {
   __m256 ox, oy, oz, sx, sy, delta, delta2, gamma, tiny, signMask;
-  explicit RayLanes(const PrefilterRay &ray)
+  LRAY_AVX2 explicit RayLanes(const PrefilterRay &ray)
       : ox(bcast(ray.ox)), oy(bcast(ray.oy)), oz(bcast(ray.oz)), sx(bcast(ray.sx)),
         sy(bcast(ray.sy)), delta(bcast(ray.delta)), delta2(bcast(ray.delta2)),
         gamma(_mm256_set1_ps(PrefilterRay::kGamma)), tiny(_mm256_set1_ps(PrefilterRay::kTiny)),
         signMask(_mm256_set1_ps(-0.0f)) {}
 };
 
+// The prefilter of eight triangles (two packets) or, with Width 4, of one
+// packet in the low lanes.
 template <int Kz, int Width>
-uint32_t prefilterLanes(const RayLanes &r, const TrianglePacket *packets) {
+LRAY_AVX2 uint32_t prefilterLanes(const RayLanes &r, const TrianglePacket *packets) {
   constexpr int kx = (Kz + 1) % 3, ky = (Kz + 2) % 3;
-  auto load = [packets](int c, int axis) __attribute__((always_inline)) {
-    return Width == 8 ? loadPair(packets, c, axis)
-                      : _mm256_castps128_ps256(_mm_load_ps(packets[0].v[c][axis]));
-  };
   __m256 x[3], y[3], s[3];
   for (int c = 0; c < 3; ++c) {
-    const __m256 az = _mm256_sub_ps(load(c, Kz), r.oz);
-    x[c] = _mm256_sub_ps(_mm256_sub_ps(load(c, kx), r.ox), _mm256_mul_ps(r.sx, az));
-    y[c] = _mm256_sub_ps(_mm256_sub_ps(load(c, ky), r.oy), _mm256_mul_ps(r.sy, az));
+    const __m256 pz = Width == 8 ? loadPair(packets, c, Kz) : loadOne(packets, c, Kz);
+    const __m256 px = Width == 8 ? loadPair(packets, c, kx) : loadOne(packets, c, kx);
+    const __m256 py = Width == 8 ? loadPair(packets, c, ky) : loadOne(packets, c, ky);
+    const __m256 az = _mm256_sub_ps(pz, r.oz);
+    x[c] = _mm256_sub_ps(_mm256_sub_ps(px, r.ox), _mm256_mul_ps(r.sx, az));
+    y[c] = _mm256_sub_ps(_mm256_sub_ps(py, r.oy), _mm256_mul_ps(r.sy, az));
     s[c] = _mm256_add_ps(_mm256_andnot_ps(r.signMask, x[c]), _mm256_andnot_ps(r.signMask, y[c]));
   }
   const __m256 e0 = _mm256_sub_ps(_mm256_mul_ps(x[2], y[1]), _mm256_mul_ps(y[2], x[1]));
@@ -78,8 +79,8 @@ uint32_t prefilterLanes(const RayLanes &r, const TrianglePacket *packets) {
 } // namespace
 
 template <int Kz>
-uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packets,
-                           uint32_t count) {
+LRAY_AVX2 uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packets,
+                                     uint32_t count) {
   const uint64_t all = count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
   if (!ray.active) return all;
   const RayLanes r(ray);
@@ -94,7 +95,5 @@ uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packet
 template uint64_t prefilterLeafAvx2<0>(const PrefilterRay &, const TrianglePacket *, uint32_t);
 template uint64_t prefilterLeafAvx2<1>(const PrefilterRay &, const TrianglePacket *, uint32_t);
 template uint64_t prefilterLeafAvx2<2>(const PrefilterRay &, const TrianglePacket *, uint32_t);
-
-#pragma GCC pop_options
 
 } // namespace lray

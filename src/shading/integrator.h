@@ -122,26 +122,37 @@ private:
   /// shadeTile's array cost a store-forwarding stall per field).
   void surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const;
 
-  /// shadeTile's working arrays: per ray, and per shadow ray of one light
-  /// sample (`ray` indexes the tile's rays).
-  struct TileScratch {
-    struct Pending {
-      uint32_t ray;
-      double nl;
-      Vec3 l;
-    };
-    std::array<Surface, kMaxTileRays> surface;
-    std::array<Color, kMaxTileRays> lightSum;
-    std::array<Pending, kMaxTileRays> pending;
-    std::array<Ray, kMaxTileRays> shadowRays;
-    std::array<uint8_t, kMaxTileRays> blocked;
-  };
-
   Color shade(const Ray &ray, const Hit &hit, int depth, double weight, Sampler &sampler,
               RayCounts &counts) const;
 
   Color directLight(const Hit &hit, const Vec3 &n, const Vec3 &v, const Color &pigment,
                     const Material &m, Sampler &sampler, RayCounts &counts) const;
+
+  /// Where a light sample lies as seen from a hit: its point, the unit
+  /// direction to it and N.L.
+  struct LightDir {
+    Vec3 target, l;
+    double nl;
+  };
+  /// Draws sample (row, col) of `light` (its jitter, for area lights, from
+  /// `sampler`) and returns false when it cannot light the hit (at the hit
+  /// point, or N.L <= 0: no shadow ray needed). directLight and shadeTile
+  /// both take samples through it, so their draws and arithmetic agree.
+  static bool lightDir(const LightSamples &light, int row, int col, const Hit &hit,
+                       const Vec3 &n, Sampler &sampler, LightDir &out) {
+    double fx = 0.5, fz = 0.5;
+    if (light.area) {
+      fx = sampler.next();
+      fz = sampler.next();
+    }
+    out.target = light.samplePoint(row, col, fx, fz);
+    Vec3 toLight = out.target - hit.p;
+    double dist = length(toLight);
+    if (!(dist > 0)) return false;
+    out.l = toLight / dist;
+    out.nl = dot(n, out.l);
+    return !(out.nl <= 0); // faces away: no shadow ray needed
+  }
 
   /// The light a sample reaching the surface unblocked adds, before the
   /// light's weighted colour: diffuse N.L plus the specular highlight.
@@ -155,6 +166,20 @@ private:
     }
     return c;
   }
+
+  /// shadeTile's working arrays: per ray, and per shadow ray of one light
+  /// sample (`ray` indexes the tile's rays).
+  struct TileScratch {
+    struct Pending {
+      uint32_t ray;
+      LightDir dir;
+    };
+    std::array<Surface, kMaxTileRays> surface;
+    std::array<Color, kMaxTileRays> lightSum;
+    std::array<Pending, kMaxTileRays> pending;
+    std::array<Ray, kMaxTileRays> shadowRays;
+    std::array<uint8_t, kMaxTileRays> blocked;
+  };
 
   /// shade after the ambient and direct light (`c`): adds what the
   /// reflected and refracted rays bring.
@@ -231,21 +256,11 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Vec3 &n, const Vec3 &
   for (const LightSamples &light : lights_) {
     for (int row = 0; row < light.rows; ++row) {
       for (int col = 0; col < light.cols; ++col) {
-        double fx = 0.5, fz = 0.5;
-        if (light.area) {
-          fx = sampler.next();
-          fz = sampler.next();
-        }
-        Vec3 target = light.samplePoint(row, col, fx, fz);
-        Vec3 toLight = target - hit.p;
-        double dist = length(toLight);
-        if (!(dist > 0)) continue;
-        Vec3 l = toLight / dist;
-        double nl = dot(n, l);
-        if (nl <= 0) continue; // faces away: no shadow ray needed
+        LightDir d;
+        if (!lightDir(light, row, col, hit, n, sampler, d)) continue;
         ++counts.shadow;
-        if (accel_.occluded(spawnRayTo(hit, target))) continue;
-        sum += light.weightedColor * sampleColor(n, v, l, nl, diffuseColor, m);
+        if (accel_.occluded(spawnRayTo(hit, d.target))) continue;
+        sum += light.weightedColor * sampleColor(n, v, d.l, d.nl, diffuseColor, m);
       }
     }
   }
@@ -300,21 +315,11 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
         size_t n = 0;
         for (size_t i = 0; i < count; ++i) {
           if (!found[i] || !surface[i].m->lit) continue;
-          double fx = 0.5, fz = 0.5;
-          if (light.area) {
-            fx = samplers[i].next();
-            fz = samplers[i].next();
-          }
-          Vec3 target = light.samplePoint(row, col, fx, fz);
-          Vec3 toLight = target - hits[i].p;
-          double dist = length(toLight);
-          if (!(dist > 0)) continue;
-          Vec3 l = toLight / dist;
-          double nl = dot(surface[i].n, l);
-          if (nl <= 0) continue; // faces away: no shadow ray needed
+          auto &p = pending[n];
+          if (!lightDir(light, row, col, hits[i], surface[i].n, samplers[i], p.dir)) continue;
           ++counts.shadow;
-          pending[n] = {static_cast<uint32_t>(i), nl, l};
-          shadowRays[n] = spawnRayTo(hits[i], target);
+          p.ray = static_cast<uint32_t>(i);
+          shadowRays[n] = spawnRayTo(hits[i], p.dir.target);
           ++n;
         }
         if (n == 0) continue;
@@ -324,8 +329,8 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
           const auto &p = pending[k];
           const Surface &s = surface[p.ray];
           const Color diffuseColor = s.pigment * s.m->finish.diffuse;
-          lightSum[p.ray] += light.weightedColor * sampleColor(s.n, s.v, p.l, p.nl, diffuseColor,
-                                                               *s.m);
+          lightSum[p.ray] +=
+              light.weightedColor * sampleColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
         }
       }
     }

@@ -185,14 +185,9 @@ template <bool AnyHit, KdRays Rays>
           // whole leaf with AVX2; packet by packet otherwise).
           for (uint32_t first = 0; first < count; first += 64, group += 64 / kPacketLanes) {
             const uint32_t n = std::min(count - first, 64u);
-            uint64_t lanes = 0;
-            if (direct) lanes = (uint64_t{1} << n) - 1;
-            else if (useAvx2_) lanes = prefilterLeafAvx2<kz>(fray, group, n);
-            else {
-              for (uint32_t p = 0; p * kPacketLanes < n; ++p)
-                lanes |= uint64_t{prefilterPacket<kz>(fray, group[p])} << (p * kPacketLanes);
-              if (n < 64) lanes &= (uint64_t{1} << n) - 1;
-            }
+            uint64_t lanes = direct     ? leafLanes(n)
+                             : useAvx2_ ? prefilterLeafAvx2<kz>(fray, group, n)
+                                        : prefilterLeaf<kz>(fray, group, n);
             for (; lanes != 0; lanes &= lanes - 1) {
               const uint32_t lane = static_cast<uint32_t>(std::countr_zero(lanes));
               const TrianglePacket &packet = group[lane / kPacketLanes];

@@ -122,6 +122,24 @@ inline uint32_t prefilterPacket(const PrefilterRay &ray, const TrianglePacket &p
 /// Triangles in one packet.
 constexpr uint32_t kPacketLanes = 4;
 
+/// Bits 0 .. count-1 set (count <= 64): the lanes of a leaf of `count`
+/// triangles.
+inline uint64_t leafLanes(uint32_t count) {
+  return count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+}
+
+/// prefilterPacket for the first `count` (1 to 64) triangles of consecutive
+/// packets (bit i: triangle i), packet by packet: the SSE twin of
+/// prefilterLeafAvx2.
+template <int Kz>
+inline uint64_t prefilterLeaf(const PrefilterRay &ray, const TrianglePacket *packets,
+                              uint32_t count) {
+  uint64_t lanes = 0;
+  for (uint32_t p = 0; p * kPacketLanes < count; ++p)
+    lanes |= uint64_t{prefilterPacket<Kz>(ray, packets[p])} << (p * kPacketLanes);
+  return lanes & leafLanes(count);
+}
+
 /// True when the CPU runs AVX2 (prefilterLeafAvx2 may be called).
 bool cpuHasAvx2();
 

@@ -81,7 +81,7 @@ LRAY_AVX2 uint32_t prefilterLanes(const RayLanes &r, const TrianglePacket *packe
 template <int Kz>
 LRAY_AVX2 uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packets,
                                      uint32_t count) {
-  const uint64_t all = count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+  const uint64_t all = leafLanes(count);
   if (!ray.active) return all;
   const RayLanes r(ray);
   uint64_t lanes = 0;

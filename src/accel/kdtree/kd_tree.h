@@ -309,8 +309,9 @@ template <bool AnyHit, class LeafTest>
       top += pushFar;
       // A branch (rarely taken, so well predicted) rather than a select:
       // the next node's load then starts before this step's arithmetic is
-      // done. (Selects measured 10-20 % slower; so did passing over empty
-      // near children here instead of popping them.) Going far, t0 stays:
+      // done. (Selects measured 6-36 % slower; passing over empty near
+      // children here instead of popping them, 3-14 % slower at 10^5-10^6:
+      // bench/README.md.) Going far, t0 stays:
       // the plane lies before it.
       if (farOnly) {
         nodeIndex = farChild;

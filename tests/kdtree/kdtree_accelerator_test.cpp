@@ -4,6 +4,7 @@
 
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
+#include "hit_expect.h"
 #include "kdtree/kdtree_test_util.h"
 
 #include <gtest/gtest.h>
@@ -125,6 +126,42 @@ TEST(KdTreeAccelerator, MatchesBruteForceOnMixedScene) {
       EXPECT_EQ(batch[i].t, single.t);
     }
   }
+}
+
+// intersectCoherent traces a group of rays before it fills their triangle
+// hits together: every field of every hit must be what intersect() gives,
+// for batches shorter and longer than a group, with hits on the identity
+// mesh (SIMD fill), the instance (scalar fill), analytic shapes and misses.
+TEST(KdTreeAccelerator, CoherentBatchMatchesSingleRaysBitForBit) {
+  Scene scene = mixedScene();
+  KdTreeAccelerator accel(scene);
+  Rng rng(5);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1500; ++i) {
+    Vec3 o = rng.inBox({-8, -8, -8}, {8, 8, 8});
+    rays.push_back({o, rng.inBox({-4, -4, -1}, {5, 4, 1}) - o});
+    if (i % 5 == 0) rays.back().tMax = rng.uniform(0, 1.2);
+  }
+  int kinds[3] = {0, 0, 0}; // identity mesh, instance, analytic
+  size_t first = 0;
+  for (size_t count : {1u, 31u, 32u, 33u, 64u, 100u, 257u, 982u}) {
+    ASSERT_LE(first + count, rays.size());
+    std::vector<Hit> batch(count);
+    std::vector<uint8_t> found(count, 9);
+    accel.intersectCoherent(rays.data() + first, count, batch.data(), found.data());
+    for (size_t i = 0; i < count; ++i) {
+      Hit single;
+      bool f = accel.intersect(rays[first + i], single);
+      ASSERT_EQ(found[i], f ? 1 : 0) << first + i;
+      if (!f) continue;
+      testing::expectSameHit(batch[i], single);
+      ++kinds[single.entity < 2 ? single.entity : 2];
+    }
+    first += count;
+  }
+  EXPECT_GT(kinds[0], 100);
+  EXPECT_GT(kinds[1], 100);
+  EXPECT_GT(kinds[2], 100);
 }
 
 // Rays from inside transformed instances of a closed mesh, aimed exactly at

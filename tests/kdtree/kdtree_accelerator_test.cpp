@@ -128,10 +128,10 @@ TEST(KdTreeAccelerator, MatchesBruteForceOnMixedScene) {
   }
 }
 
-// intersectCoherent traces a group of rays before it fills their triangle
-// hits together: every field of every hit must be what intersect() gives,
-// for batches shorter and longer than a group, with hits on the identity
-// mesh (SIMD fill), the instance (scalar fill), analytic shapes and misses.
+// intersectCoherent walks the trees by the general loop, intersect() by the
+// start-side descent where a tree is big enough: every field of every hit
+// must agree, at any batch length, on the identity mesh, the instance,
+// analytic shapes and misses.
 TEST(KdTreeAccelerator, CoherentBatchMatchesSingleRaysBitForBit) {
   Scene scene = mixedScene();
   KdTreeAccelerator accel(scene);

@@ -190,6 +190,9 @@ int main(int argc, char **argv) {
     double render0 = 0, render1 = 0, perRay0 = 0, perRay1 = 0, ray0 = 0, ray1 = 0;
   };
   std::vector<std::pair<std::string, Ends>> growth;
+  // Per backend and kind: (N, frame time per traced ray) at every N, for
+  // the growth decade by decade.
+  std::vector<std::pair<std::string, std::vector<std::pair<size_t, double>>>> steps;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
       Scene scene = withLightAndFinish(std::string(kind) == "spheres"
@@ -209,6 +212,10 @@ int main(int argc, char **argv) {
                                [&](const auto &g) { return g.first == key; });
         double perRay = fig[b].render / double(fig[b].renderRays);
         double camera = 1 / fig[b].primarySingle;
+        auto st = std::find_if(steps.begin(), steps.end(),
+                               [&](const auto &g) { return g.first == key; });
+        if (st == steps.end()) st = steps.insert(steps.end(), {key, {}});
+        st->second.push_back({n, perRay});
         if (it == growth.end()) {
           growth.push_back(
               {key, Ends{n, n, fig[b].render, fig[b].render, perRay, perRay, camera, camera}});
@@ -251,6 +258,28 @@ int main(int argc, char **argv) {
                         e.n0, e.n1);
     md << logGrowthLine((key + ": one camera ray, traversal only").c_str(), e.ray0, e.ray1, e.n0,
                         e.n1);
+  }
+
+  // Decade by decade: where the time per traced ray outgrows log N. Once a
+  // structure leaves a cache level, every backend's rays pay its misses.
+  if (!steps.empty() && steps.front().second.size() > 1) {
+    const auto &ns = steps.front().second;
+    md << "\n## Growth decade by decade (frame time per traced ray)\n\n| backend, series |";
+    for (size_t i = 1; i < ns.size(); ++i)
+      md << fmt::format(" {} -> {} |", ns[i - 1].first, ns[i].first);
+    md << "\n|---|";
+    for (size_t i = 1; i < ns.size(); ++i) md << "---|";
+    md << "\n| log N |";
+    for (size_t i = 1; i < ns.size(); ++i)
+      md << fmt::format(" {:.2f}x |",
+                        std::log(double(ns[i].first)) / std::log(double(ns[i - 1].first)));
+    md << "\n";
+    for (const auto &[key, v] : steps) {
+      md << "| " << key << " |";
+      for (size_t i = 1; i < v.size(); ++i)
+        md << fmt::format(" {:.2f}x |", v[i].second / v[i - 1].second);
+      md << "\n";
+    }
   }
 
   md << "\n## Gallery (frame 0, scene_info size, one thread)\n\n"

@@ -83,25 +83,28 @@ struct LaneCorners {
 
 const Vec3f kNoNormal{0, 0, 0};
 
-LaneCorners laneCorners(const TriangleHitQuery &q) {
+[[gnu::always_inline]] inline LaneCorners laneCorners(const TriangleHitQuery &q) {
   const MeshData &mesh = *q.entity->mesh;
-  uint32_t v[3];
-  int32_t n[3];
   LaneCorners c{};
   if (mesh.vertexNormalBase >= 0) {
+    // Vertex-indexed normals: every corner has one (normal index = vertex
+    // index + base >= 0), so fillTriangleHit takes them by index.
     const uint32_t *corners = &mesh.triangleIndices[3 * size_t(q.triangle)];
+    const Vec3f *normals = mesh.normals.data() + mesh.vertexNormalBase;
     for (int k = 0; k < 3; ++k) {
-      v[k] = corners[k];
-      n[k] = static_cast<int32_t>(v[k]) + mesh.vertexNormalBase;
+      c.p[k] = &mesh.positions[corners[k]];
+      c.n[k] = &normals[corners[k]];
     }
-  } else {
-    const MeshTriangle &tri = mesh.triangles[q.triangle];
-    for (int k = 0; k < 3; ++k) {
-      v[k] = tri.v[k];
-      n[k] = tri.n[k];
-    }
-    c.uv = tri.uv;
+    return c;
   }
+  uint32_t v[3];
+  int32_t n[3];
+  const MeshTriangle &tri = mesh.triangles[q.triangle];
+  for (int k = 0; k < 3; ++k) {
+    v[k] = tri.v[k];
+    n[k] = tri.n[k];
+  }
+  c.uv = tri.uv;
   const bool byIndex = n[0] >= 0 && n[1] >= 0 && n[2] >= 0;
   const bool perVertex = mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty();
   for (int k = 0; k < 3; ++k) {

@@ -209,11 +209,18 @@ TEST(EmbreeAccelerator, SkipsMeshlessAndEmptyMeshEntities) {
 
 TEST(EmbreeAccelerator, CoherentBatchOfAnyLength) {
   Scene s = mixedScene();
+  // An untransformed mesh too: its hits take the SIMD fill.
+  const uint32_t placed = static_cast<uint32_t>(s.entities.size());
+  s.entities.push_back(
+      meshEntity(makeMesh({{-3, 0.5, 4.5}, {1, 0.5, 4.5}, {1, 0.8, 4.5}, {-3, 0.8, 4.5}},
+                          {0, 2, 1, 0, 3, 2}),
+                 Transform()));
   EmbreeAccelerator accel(s);
-  for (size_t count : {1u, 7u, 8u, 9u, 17u}) {
+  size_t placedHits = 0;
+  for (size_t count : {1u, 7u, 8u, 9u, 17u, 255u, 256u, 257u, 520u}) {
     std::vector<Ray> rays;
     for (size_t i = 0; i < count; ++i)
-      rays.push_back({{0, 0, -2}, {-0.3 + 0.05 * static_cast<double>(i), 0.1, 1}});
+      rays.push_back({{0, 0, -2}, {-0.3 + 0.05 * static_cast<double>(i % 13), 0.1, 1}});
     std::vector<Hit> hits(count);
     std::vector<uint8_t> found(count, 9);
     accel.intersectCoherent(rays.data(), count, hits.data(), found.data());
@@ -222,8 +229,10 @@ TEST(EmbreeAccelerator, CoherentBatchOfAnyLength) {
       bool hit = accel.intersect(rays[i], h);
       ASSERT_EQ(found[i], hit ? 1 : 0);
       if (hit) expectSameHit(hits[i], h);
+      placedHits += hit && h.entity == placed;
     }
   }
+  EXPECT_GT(placedHits, 100u);
 }
 
 } // namespace

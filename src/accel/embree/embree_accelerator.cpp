@@ -348,43 +348,38 @@ bool EmbreeAccelerator::occluded(const Ray &ray) const {
   return r.tfar < 0;
 }
 
-namespace {
-
-/// One 8-wide packet of intersectCoherent, traced and awaiting its fill.
-struct Packet {
-  alignas(32) RTCRayHit8 rh;
-  size_t base = 0, lanes = 0;
-  const MeshData *meshes[8] = {}; ///< per lane: the mesh hit, if any
-};
-
-} // namespace
-
 void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
                                           uint8_t *found) const {
   // The mesh hit records read MeshData that Embree never touched (it keeps
   // its own vertex copies), two dependent cache misses per hit (corner
   // indices, then vertices). So the packets of a chunk (a renderer tile) are
-  // traced first, and each packet's corners are prefetched after its trace
-  // and its vertices after the next one's; then all the chunk's mesh hits
-  // are filled in one batch, four to a SIMD group (triangle_hits.cpp),
-  // groups no longer split at packet ends. Filling each packet two traces
-  // after its own, in the same loop, measured 1-2 points of raw Embree's
-  // speed less on bench_embree's 1M-triangle mesh (bench/README.md).
-  constexpr size_t kChunk = 32;
-  Packet chunk[kChunk];
-  for (size_t chunkBase = 0; chunkBase < count; chunkBase += 8 * kChunk) {
-    const size_t chunkCount = std::min(8 * kChunk, count - chunkBase);
-    const size_t packets = (chunkCount + 7) / 8;
-    for (size_t k = 0; k < packets; ++k) {
-      Packet &pk = chunk[k];
-      pk.base = chunkBase + 8 * k;
-      pk.lanes = std::min<size_t>(8, count - pk.base);
+  // traced first, through one reused packet: each packet's mesh hits are
+  // recorded as fill queries with their corners prefetched, and their
+  // vertices are prefetched after the next packet's trace. Then all the
+  // chunk's mesh hits are filled in one batch, four to a SIMD group
+  // (triangle_hits.cpp), groups no longer split at packet ends. On
+  // bench_embree's 1M-triangle mesh this runs at 81-82 % of raw Embree's
+  // packets, where filling each packet two traces after its own, in the
+  // same loop, ran at 79 % (bench/README.md). Analytic hits are written by
+  // their callbacks during the trace.
+  constexpr size_t kChunk = 32 * 8;
+  TriangleHitQuery queries[kChunk];
+  const std::vector<Entity> &entities = scene_.entities;
+  auto prefetchVertices = [&](size_t first, size_t end) {
+    for (size_t j = first; j < end; ++j)
+      prefetchTriangleVertices(*queries[j].entity->mesh, queries[j].triangle);
+  };
+  alignas(32) RTCRayHit8 rh;
+  for (size_t chunkBase = 0; chunkBase < count; chunkBase += kChunk) {
+    const size_t chunkEnd = std::min(count, chunkBase + kChunk);
+    size_t nq = 0, previous = 0;
+    for (size_t base = chunkBase; base < chunkEnd; base += 8) {
+      const size_t lanes = std::min<size_t>(8, chunkEnd - base);
       alignas(32) int valid[8];
       double bestT[8];
-      RTCRayHit8 &rh = pk.rh;
       for (unsigned i = 0; i < 8; ++i) {
-        valid[i] = i < pk.lanes ? -1 : 0;
-        const Ray &r = rays[pk.base + (i < pk.lanes ? i : 0)];
+        valid[i] = i < lanes ? -1 : 0;
+        const Ray &r = rays[base + (i < lanes ? i : 0)];
         toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i],
                  rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i],
                  rh.ray.tfar[i]);
@@ -399,44 +394,25 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       QueryContext ctx;
       rtcInitIntersectContext(&ctx.base);
       ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-      ctx.rays = rays + pk.base;
-      ctx.hits = hits + pk.base;
+      ctx.rays = rays + base;
+      ctx.hits = hits + base;
       ctx.bestT = bestT;
       rtcIntersect8(valid, root_, &ctx.base, &rh);
-      for (unsigned i = 0; i < pk.lanes; ++i) {
+      const size_t first = nq;
+      for (unsigned i = 0; i < lanes; ++i) {
+        const size_t r = base + i;
+        found[r] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
         unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
                                                                       : rh.hit.geomID[i];
-        pk.meshes[i] = id < scene_.entities.size() ? scene_.entities[id].mesh.get() : nullptr;
-        if (pk.meshes[i]) prefetchTriangleCorners(*pk.meshes[i], rh.hit.primID[i]);
+        if (id >= entities.size() || !entities[id].mesh) continue;
+        queries[nq++] = {&entities[id], id,         rh.hit.primID[i], rh.ray.tfar[i],
+                         rh.hit.u[i],   rh.hit.v[i], &rays[r],        &hits[r]};
+        prefetchTriangleCorners(*entities[id].mesh, rh.hit.primID[i]);
       }
-      if (k >= 1) {
-        const Packet &prev = chunk[k - 1];
-        for (unsigned i = 0; i < prev.lanes; ++i)
-          if (prev.meshes[i]) prefetchTriangleVertices(*prev.meshes[i], prev.rh.hit.primID[i]);
-      }
+      prefetchVertices(previous, first);
+      previous = first;
     }
-    {
-      const Packet &last = chunk[packets - 1];
-      for (unsigned i = 0; i < last.lanes; ++i)
-        if (last.meshes[i]) prefetchTriangleVertices(*last.meshes[i], last.rh.hit.primID[i]);
-    }
-    // The chunk's mesh hits as one batch (analytic hits were written by
-    // their callbacks during the trace).
-    TriangleHitQuery queries[8 * kChunk];
-    size_t nq = 0;
-    for (size_t k = 0; k < packets; ++k) {
-      const Packet &pk = chunk[k];
-      const RTCRayHit8 &rh = pk.rh;
-      for (unsigned i = 0; i < pk.lanes; ++i) {
-        const size_t r = pk.base + i;
-        found[r] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-        if (!pk.meshes[i]) continue;
-        unsigned entity = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
-                                                                         : rh.hit.geomID[i];
-        queries[nq++] = {&scene_.entities[entity], entity, rh.hit.primID[i], rh.ray.tfar[i],
-                         rh.hit.u[i], rh.hit.v[i], &rays[r], &hits[r]};
-      }
-    }
+    prefetchVertices(previous, nq);
     fillTriangleHits(queries, nq, frameOrigin_);
   }
 }

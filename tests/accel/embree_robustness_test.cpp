@@ -229,7 +229,7 @@ TEST(EmbreeRobustness, PbrtWatertightProbe) {
   // adds no miss to it. A hole in the mesh or a leak from LRay's ray
   // conversion would miss thousands.
   EXPECT_LE(mean, rawMean);
-  EXPECT_LE(median, 30.0);
+  EXPECT_LE(median, 25.0);
 }
 
 /// Re-hits of entity 0 by rays spawned from hits on it; `rays` per hit

@@ -405,8 +405,8 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
         unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
                                                                       : rh.hit.geomID[i];
         if (id >= entities.size() || !entities[id].mesh) continue;
-        queries[nq++] = {&entities[id], id,         rh.hit.primID[i], rh.ray.tfar[i],
-                         rh.hit.u[i],   rh.hit.v[i], &rays[r],        &hits[r]};
+        queries[nq++] = {&entities[id], id, rh.hit.primID[i], rh.ray.tfar[i],
+                         rh.hit.u[i], rh.hit.v[i], &rays[r], &hits[r]};
         prefetchTriangleCorners(*entities[id].mesh, rh.hit.primID[i]);
       }
       prefetchVertices(previous, first);

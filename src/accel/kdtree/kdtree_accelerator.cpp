@@ -116,8 +116,10 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
           treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));
       if (added) meshTrees_.push_back({e.mesh.get(), KdTree()});
       inst.meshTree = it->second;
-      inst.identity = e.worldFromObject.isIdentity();
-      inst.objectFromWorld = e.worldFromObject.inverse();
+      if (!e.worldFromObject.isIdentity()) {
+        inst.transform = static_cast<uint32_t>(transforms_.size());
+        transforms_.push_back(e.worldFromObject.inverse());
+      }
       topBounds.push_back(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
       ++stats_.instances;
     } else {
@@ -149,6 +151,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
   stats_.buildSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats_.memoryBytes = top_.memoryBytes() + instances_.capacity() * sizeof(Instance) +
+                       transforms_.capacity() * sizeof(Transform) +
                        meshTrees_.capacity() * sizeof(MeshTree);
   for (const MeshTree &mt : meshTrees_)
     stats_.memoryBytes +=
@@ -163,7 +166,8 @@ template <bool AnyHit, KdRays Rays>
 [[gnu::always_inline]] inline bool KdTreeAccelerator::intersectMesh(const Instance &inst,
                                                                     const Ray &ray, double &tBest,
                                                                     MeshHit &hit) const {
-  const Ray objectRay = inst.identity ? ray : inst.objectFromWorld.applyRay(ray);
+  const Ray objectRay =
+      inst.transform == kIdentity ? ray : transforms_[inst.transform].applyRay(ray);
   const WatertightRay wray(objectRay);
   const MeshTree &mt = meshTrees_[inst.meshTree];
   // Meshes of one or two triangles (a floor) only take the exact test.

@@ -54,13 +54,17 @@ private:
     /// run, in SIMD lanes, instead of through the index and position arrays.
     std::vector<TrianglePacket> packets;
   };
-  /// One top-level primitive: an entity and, for meshes, how to reach its tree.
+  static constexpr uint32_t kIdentity = ~0u;
+  /// One top-level primitive: an entity and, for meshes, how to reach its
+  /// tree. 12 bytes: a scene of a million analytic shapes keeps a million.
   struct Instance {
     uint32_t entity = 0;
     uint32_t meshTree = kAnalytic;
-    bool identity = true;       ///< object space == world space: skip the ray transform
-    Transform objectFromWorld;  ///< meshes only
+    /// Meshes: the index of objectFromWorld in transforms_, or kIdentity
+    /// (object space == world space: the ray is not transformed).
+    uint32_t transform = kIdentity;
   };
+  static_assert(sizeof(Instance) == 12);
 
   /// A mesh hit as found during traversal: the leaf reference and barycentrics.
   struct MeshHit {
@@ -83,6 +87,8 @@ private:
   bool useAvx2_;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
+  /// objectFromWorld of each transformed mesh instance.
+  std::vector<Transform> transforms_;
   KdTree top_;
   AcceleratorStats stats_;
 };

@@ -183,16 +183,14 @@ int main(int argc, char **argv) {
   dat << "# kind N embree_build kd_build embree_mem kd_mem embree_primary kd_primary embree_shadow "
          "kd_shadow embree_secondary kd_secondary embree_primary_single kd_primary_single "
          "embree_render kd_render\n";
-  // Per backend and kind: (N, render s, seconds per single primary ray) at
-  // the smallest and largest N, for the log N check below.
-  struct Ends {
-    size_t n0 = 0, n1 = 0;
-    double render0 = 0, render1 = 0, perRay0 = 0, perRay1 = 0, ray0 = 0, ray1 = 0;
+  // Per backend and kind, at every N of the series: the frame time, the
+  // frame time per traced ray and the seconds per single camera ray, for the
+  // growth tables below (largest against smallest N, and decade by decade).
+  struct Point {
+    size_t n = 0;
+    double render = 0, perRay = 0, camera = 0;
   };
-  std::vector<std::pair<std::string, Ends>> growth;
-  // Per backend and kind: (N, frame time per traced ray) at every N, for
-  // the growth decade by decade.
-  std::vector<std::pair<std::string, std::vector<std::pair<size_t, double>>>> steps;
+  std::vector<std::pair<std::string, std::vector<Point>>> series;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
       Scene scene = withLightAndFinish(std::string(kind) == "spheres"
@@ -208,23 +206,11 @@ int main(int argc, char **argv) {
             fig[b].primarySingle, fig[b].shadow, fig[b].secondary, fig[b].render,
             fig[b].renderRays);
         std::string key = fmt::format("{} {}", backendName(backend), kind);
-        auto it = std::find_if(growth.begin(), growth.end(),
+        auto it = std::find_if(series.begin(), series.end(),
                                [&](const auto &g) { return g.first == key; });
-        double perRay = fig[b].render / double(fig[b].renderRays);
-        double camera = 1 / fig[b].primarySingle;
-        auto st = std::find_if(steps.begin(), steps.end(),
-                               [&](const auto &g) { return g.first == key; });
-        if (st == steps.end()) st = steps.insert(steps.end(), {key, {}});
-        st->second.push_back({n, perRay});
-        if (it == growth.end()) {
-          growth.push_back(
-              {key, Ends{n, n, fig[b].render, fig[b].render, perRay, perRay, camera, camera}});
-        } else {
-          it->second.n1 = n;
-          it->second.render1 = fig[b].render;
-          it->second.perRay1 = perRay;
-          it->second.ray1 = camera;
-        }
+        if (it == series.end()) it = series.insert(series.end(), {key, {}});
+        it->second.push_back({n, fig[b].render, fig[b].render / double(fig[b].renderRays),
+                              1 / fig[b].primarySingle});
         std::cout << kind << " " << n << " " << backendName(backend) << " build " << fig[b].build
                   << " s, primary " << fig[b].primary << " Mrays/s" << std::endl;
       }
@@ -252,32 +238,33 @@ int main(int argc, char **argv) {
   // shading).
   md << "\n## Growth with N (largest / smallest scene of the series)\n\n"
         "| backend, series | growth | log N growth | within log N |\n|---|---|---|---|\n";
-  for (const auto &[key, e] : growth) {
-    md << logGrowthLine((key + ": frame time").c_str(), e.render0, e.render1, e.n0, e.n1);
-    md << logGrowthLine((key + ": frame time per traced ray").c_str(), e.perRay0, e.perRay1,
-                        e.n0, e.n1);
-    md << logGrowthLine((key + ": one camera ray, traversal only").c_str(), e.ray0, e.ray1, e.n0,
-                        e.n1);
+  for (const auto &[key, v] : series) {
+    const Point &a = v.front(), &z = v.back();
+    md << logGrowthLine((key + ": frame time").c_str(), a.render, z.render, a.n, z.n);
+    md << logGrowthLine((key + ": frame time per traced ray").c_str(), a.perRay, z.perRay, a.n,
+                        z.n);
+    md << logGrowthLine((key + ": one camera ray, traversal only").c_str(), a.camera, z.camera,
+                        a.n, z.n);
   }
 
   // Decade by decade: where the time per traced ray outgrows log N. Once a
   // structure leaves a cache level, every backend's rays pay its misses.
-  if (!steps.empty() && steps.front().second.size() > 1) {
-    const auto &ns = steps.front().second;
+  if (!series.empty() && series.front().second.size() > 1) {
+    const auto &ns = series.front().second;
     md << "\n## Growth decade by decade (frame time per traced ray)\n\n| backend, series |";
     for (size_t i = 1; i < ns.size(); ++i)
-      md << fmt::format(" {} -> {} |", ns[i - 1].first, ns[i].first);
+      md << fmt::format(" {} -> {} |", ns[i - 1].n, ns[i].n);
     md << "\n|---|";
     for (size_t i = 1; i < ns.size(); ++i) md << "---|";
     md << "\n| log N |";
     for (size_t i = 1; i < ns.size(); ++i)
       md << fmt::format(" {:.2f}x |",
-                        std::log(double(ns[i].first)) / std::log(double(ns[i - 1].first)));
+                        std::log(double(ns[i].n)) / std::log(double(ns[i - 1].n)));
     md << "\n";
-    for (const auto &[key, v] : steps) {
+    for (const auto &[key, v] : series) {
       md << "| " << key << " |";
       for (size_t i = 1; i < v.size(); ++i)
-        md << fmt::format(" {:.2f}x |", v[i].second / v[i - 1].second);
+        md << fmt::format(" {:.2f}x |", v[i].perRay / v[i - 1].perRay);
       md << "\n";
     }
   }

@@ -150,14 +150,20 @@ struct EmbreeCallbacks {
 
 namespace {
 
+/// The ID of what a hit reported by Embree struck. Geometry IDs: a mesh
+/// instance or directly attached mesh has its entity's index, so an ID below
+/// entities.size() is a mesh entity; the analytic user geometry has ID
+/// entities.size(); a miss has RTC_INVALID_GEOMETRY_ID.
+unsigned hitEntity(unsigned geomID, unsigned instID) {
+  return instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID;
+}
+
 /// After Embree: the Hit for a closest hit it reported (meshes through the
 /// shared triangle code; analytic hits were written by the callback).
-/// Geometry IDs: a mesh instance or directly attached mesh has its entity's
-/// index; the analytic user geometry has ID entities.size().
 bool finishHit(const Scene &scene, const Vec3 &frame, unsigned geomID, unsigned instID,
                unsigned primID, float tfar, float u, float v, const Ray &ray, Hit &hit) {
   if (geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  unsigned entity = instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID;
+  unsigned entity = hitEntity(geomID, instID);
   if (entity < scene.entities.size())
     fillTriangleHit(scene.entities[entity], entity, primID, tfar, u, v, ray, frame, hit);
   return true;
@@ -402,9 +408,8 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       for (unsigned i = 0; i < lanes; ++i) {
         const size_t r = base + i;
         found[r] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-        unsigned id = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0][i]
-                                                                      : rh.hit.geomID[i];
-        if (id >= entities.size() || !entities[id].mesh) continue;
+        const unsigned id = hitEntity(rh.hit.geomID[i], rh.hit.instID[0][i]);
+        if (id >= entities.size()) continue;
         queries[nq++] = {&entities[id], id, rh.hit.primID[i], rh.ray.tfar[i],
                          rh.hit.u[i], rh.hit.v[i], &rays[r], &hits[r]};
         prefetchTriangleCorners(*entities[id].mesh, rh.hit.primID[i]);

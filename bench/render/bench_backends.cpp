@@ -1,9 +1,13 @@
 // bench/backends: the two acceleration backends side by side.
 //  1. A scaling series of procedural scenes (spheres, and triangle meshes),
-//     10^2 .. 10^6 primitives (triangles: bench/kdtree's bumpy sphere mesh): build time, memory, and rays/s for primary
-//     (coherent camera rays), shadow (occlusion towards a light) and secondary
-//     (incoherent: random directions from the primary hits) rays.
-//  2. The gallery (every scenes/*.lua, frame 0): render time per backend and
+//     10^2 .. 10^6 primitives (triangles: bench/kdtree's bumpy sphere
+//     mesh): build time, memory, and rays/s for primary (coherent camera
+//     rays), shadow (occlusion towards a light) and secondary (incoherent:
+//     random directions from the primary hits) rays; the frame time's
+//     growth with N against log N's.
+//  2. The triangle series from close up (closeUpView), the control whose
+//     rays keep their data in the caches at every N.
+//  3. The gallery (every scenes/*.lua, frame 0): render time per backend and
 //     the fraction of identical pixels.
 // Writes a Markdown table and a data file for the plot (see bench/backends).
 #include "accel/accelerator.h"
@@ -26,6 +30,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <numbers>
+#include <stdexcept>
 #include <vector>
 
 using namespace lray;
@@ -55,6 +61,29 @@ Scene sphereScene(size_t n) {
   s.camera.worldFromCamera = Transform::translate({0, 0, -2.2 * side});
   s.camera.fov = 40;
   return s;
+}
+
+// The triangle series seen from close up: the camera (fov 40) looks down
+// +z at the mesh's surface from a distance that shrinks with the
+// triangles, so the view spans about `edges` triangle edges at every N.
+// The rays then touch a few leaves near one spot and the path to them:
+// the structures' work per ray grows with their depth, from data that
+// stays in the caches (the control for the full-view series, whose
+// structures outgrow the L3).
+Scene closeUpView(Scene scene, size_t triangles, double edges) {
+  const Vec3 axis{0.13, 0.21, 0}; // off the poles and the grid's seams
+  Ray probe;
+  probe.o = axis + Vec3{0, 0, -3};
+  probe.d = {0, 0, 1};
+  Hit hit;
+  if (!makeAccelerator(BackendKind::Embree, scene)->intersect(probe, hit))
+    throw std::logic_error("closeUpView: the probe ray missed the mesh");
+  const double width = edges * std::sqrt(4 * std::numbers::pi / static_cast<double>(triangles));
+  const double fov = 40;
+  const double distance = width / (2 * std::tan(fov / 2 * std::numbers::pi / 180));
+  scene.camera.fov = fov;
+  scene.camera.worldFromCamera = Transform::translate(probe.at(hit.t - distance));
+  return scene;
 }
 
 struct RayFigures {
@@ -93,7 +122,8 @@ RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) 
   for (int by = 0; by < height; by += 8)
     for (int bx = 0; bx < width; bx += 8)
       for (int y = by; y < std::min(by + 8, height); ++y)
-        for (int x = bx; x < std::min(bx + 8, width); ++x) rays[k++] = camera.generate(x + 0.5, y + 0.5);
+        for (int x = bx; x < std::min(bx + 8, width); ++x)
+          rays[k++] = camera.generate(x + 0.5, y + 0.5);
 
   t0 = now();
   for (size_t i = 0; i < count; i += 64) {
@@ -164,6 +194,65 @@ std::string logGrowthLine(const char *what, double tSmall, double tLarge, size_t
                      growth <= logGrowth ? "yes" : "no");
 }
 
+// One backend's figures at every N of a series.
+struct Point {
+  size_t n = 0;
+  double render = 0, perRay = 0;         ///< frame seconds, and per traced ray
+  double camera = 0, shadow = 0, secondary = 0; ///< seconds per ray of each set, backend only
+};
+struct Series {
+  std::string key; ///< backend and scene kind
+  std::vector<Point> points;
+};
+
+void addPoint(std::vector<Series> &all, const std::string &key, size_t n, const RayFigures &f) {
+  auto it = std::find_if(all.begin(), all.end(), [&](const Series &s) { return s.key == key; });
+  if (it == all.end()) it = all.insert(all.end(), Series{key, {}});
+  it->points.push_back({n, f.render, f.render / static_cast<double>(f.renderRays),
+                        1e-6 / f.primarySingle, f.shadow > 0 ? 1e-6 / f.shadow : 0,
+                        f.secondary > 0 ? 1e-6 / f.secondary : 0});
+}
+
+// Largest against smallest N: the frame, and (raySets) each ray set alone.
+void writeGrowth(std::ostream &md, const std::vector<Series> &all, bool raySets) {
+  md << "| backend, series | growth | log N growth | within log N |\n|---|---|---|---|\n";
+  for (const Series &s : all) {
+    const Point &a = s.points.front(), &z = s.points.back();
+    auto line = [&](const char *what, double small, double large) {
+      md << logGrowthLine(fmt::format("{}: {}", s.key, what).c_str(), small, large, a.n, z.n);
+    };
+    line("frame time", a.render, z.render);
+    line("frame time per traced ray", a.perRay, z.perRay);
+    if (!raySets) continue;
+    line("one camera ray, backend only", a.camera, z.camera);
+    line("one shadow ray, backend only", a.shadow, z.shadow);
+    line("one secondary ray, backend only", a.secondary, z.secondary);
+  }
+}
+
+// Decade by decade, frame time per traced ray, beside log N's growth.
+void writeDecades(std::ostream &md, const std::vector<Series> &all) {
+  if (all.empty() || all.front().points.size() < 2) return;
+  const std::vector<Point> &ns = all.front().points;
+  md << "| backend, series |";
+  for (size_t i = 1; i < ns.size(); ++i) md << fmt::format(" {} -> {} |", ns[i - 1].n, ns[i].n);
+  md << "\n|---|";
+  for (size_t i = 1; i < ns.size(); ++i) md << "---|";
+  md << "\n| log N |";
+  for (size_t i = 1; i < ns.size(); ++i)
+    md << fmt::format(" {:.2f}x |", std::log(double(ns[i].n)) / std::log(double(ns[i - 1].n)));
+  md << "\n";
+  for (const Series &s : all) {
+    md << "| " << s.key << " |";
+    for (size_t i = 1; i < s.points.size(); ++i)
+      md << fmt::format(" {:.2f}x |", s.points[i].perRay / s.points[i - 1].perRay);
+    md << "\n";
+  }
+}
+
+// Width of the close-up view in triangle edges.
+constexpr double kCloseUpEdges = 2;
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -183,14 +272,9 @@ int main(int argc, char **argv) {
   dat << "# kind N embree_build kd_build embree_mem kd_mem embree_primary kd_primary embree_shadow "
          "kd_shadow embree_secondary kd_secondary embree_primary_single kd_primary_single "
          "embree_render kd_render\n";
-  // Per backend and kind, at every N of the series: the frame time, the
-  // frame time per traced ray and the seconds per single camera ray, for the
-  // growth tables below (largest against smallest N, and decade by decade).
-  struct Point {
-    size_t n = 0;
-    double render = 0, perRay = 0, camera = 0;
-  };
-  std::vector<std::pair<std::string, std::vector<Point>>> series;
+  // Per backend and kind, at every N of the series, for the growth tables
+  // below (largest against smallest N, and decade by decade).
+  std::vector<Series> series;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
       Scene scene = withLightAndFinish(std::string(kind) == "spheres"
@@ -201,16 +285,12 @@ int main(int argc, char **argv) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;
         fig[b] = measure(scene, backend, 320, 240);
         md << fmt::format(
-            "| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} | {} |\n",
+            "| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} | {} "
+            "|\n",
             kind, n, backendName(backend), fig[b].build, fig[b].memoryMB, fig[b].primary,
             fig[b].primarySingle, fig[b].shadow, fig[b].secondary, fig[b].render,
             fig[b].renderRays);
-        std::string key = fmt::format("{} {}", backendName(backend), kind);
-        auto it = std::find_if(series.begin(), series.end(),
-                               [&](const auto &g) { return g.first == key; });
-        if (it == series.end()) it = series.insert(series.end(), {key, {}});
-        it->second.push_back({n, fig[b].render, fig[b].render / double(fig[b].renderRays),
-                              1 / fig[b].primarySingle});
+        addPoint(series, fmt::format("{} {}", backendName(backend), kind), n, fig[b]);
         std::cout << kind << " " << n << " " << backendName(backend) << " build " << fig[b].build
                   << " s, primary " << fig[b].primary << " Mrays/s" << std::endl;
       }
@@ -234,40 +314,54 @@ int main(int argc, char **argv) {
   // a user waits for (camera rays, shading, shadow and reflected rays); as
   // the series' scenes do not trace the same number of rays (more pixels hit
   // the many small spheres than the few big ones), the frame time per traced
-  // ray follows it, then the time of one camera ray alone (intersect, no
-  // shading).
-  md << "\n## Growth with N (largest / smallest scene of the series)\n\n"
-        "| backend, series | growth | log N growth | within log N |\n|---|---|---|---|\n";
-  for (const auto &[key, v] : series) {
-    const Point &a = v.front(), &z = v.back();
-    md << logGrowthLine((key + ": frame time").c_str(), a.render, z.render, a.n, z.n);
-    md << logGrowthLine((key + ": frame time per traced ray").c_str(), a.perRay, z.perRay, a.n,
-                        z.n);
-    md << logGrowthLine((key + ": one camera ray, traversal only").c_str(), a.camera, z.camera,
-                        a.n, z.n);
-  }
-
+  // ray follows it, then each ray set alone, through the backend only (no
+  // shading): the Embree rows there are Embree's own traversal.
+  md << "\n## Growth with N (largest / smallest scene of the series)\n\n";
+  writeGrowth(md, series, true);
   // Decade by decade: where the time per traced ray outgrows log N. Once a
   // structure leaves a cache level, every backend's rays pay its misses.
-  if (!series.empty() && series.front().second.size() > 1) {
-    const auto &ns = series.front().second;
-    md << "\n## Growth decade by decade (frame time per traced ray)\n\n| backend, series |";
-    for (size_t i = 1; i < ns.size(); ++i)
-      md << fmt::format(" {} -> {} |", ns[i - 1].n, ns[i].n);
-    md << "\n|---|";
-    for (size_t i = 1; i < ns.size(); ++i) md << "---|";
-    md << "\n| log N |";
-    for (size_t i = 1; i < ns.size(); ++i)
-      md << fmt::format(" {:.2f}x |",
-                        std::log(double(ns[i].n)) / std::log(double(ns[i - 1].n)));
-    md << "\n";
-    for (const auto &[key, v] : series) {
-      md << "| " << key << " |";
-      for (size_t i = 1; i < v.size(); ++i)
-        md << fmt::format(" {:.2f}x |", v[i].perRay / v[i - 1].perRay);
-      md << "\n";
+  md << "\n## Growth decade by decade (frame time per traced ray)\n\n";
+  writeDecades(md, series);
+
+  // The control: the triangle series seen from close up (closeUpView), so
+  // that the rays' data stays in the caches at every N.
+  md << "\n## Close-up series (triangles; the view spans about " << kCloseUpEdges
+     << " triangle edges at every N)\n\n"
+        "| N | backend | render s | render rays | camera hits | ns per traced ray |\n"
+        "|---|---|---|---|---|---|\n";
+  std::vector<Series> closeUp;
+  for (size_t n = 100; n <= maxN; n *= 10) {
+    Scene scene = withLightAndFinish(closeUpView(bench::makeBumpySphereScene(n), n, kCloseUpEdges));
+    for (BackendKind backend : {BackendKind::Embree, BackendKind::KdTree}) {
+      RayFigures fig = measure(scene, backend, 320, 240);
+      md << fmt::format("| {} | {} | {:.4f} | {} | {:.1f} % | {:.1f} |\n", n, backendName(backend),
+                        fig.render, fig.renderRays, 100.0 * fig.hits / (320 * 240),
+                        1e9 * fig.render / double(fig.renderRays));
+      addPoint(closeUp, fmt::format("{} triangles, close up", backendName(backend)), n, fig);
     }
   }
+  // The plot's growth panels: frame time per traced ray over the smallest
+  // N's, per series (full view and close up).
+  std::ofstream growthDat(outDir / "growth.dat");
+  growthDat << "# view kind N embree kd (frame time per traced ray / the smallest N's)\n";
+  auto writeGrowthDat = [&](const char *view, const std::vector<Series> &all) {
+    // Series come in pairs, Embree then kd-tree, keyed "<backend> <kind>[, ...]".
+    for (size_t i = 0; i + 1 < all.size(); i += 2) {
+      const std::string &key = all[i].key;
+      const size_t from = key.find(' ') + 1;
+      const std::string kind = key.substr(from, key.find(',', from) - from);
+      const auto &e = all[i].points, &k = all[i + 1].points;
+      for (size_t j = 0; j < e.size() && j < k.size(); ++j)
+        growthDat << fmt::format("{} {} {} {} {}\n", view, kind, e[j].n,
+                                 e[j].perRay / e[0].perRay, k[j].perRay / k[0].perRay);
+    }
+  };
+  writeGrowthDat("full", series);
+  writeGrowthDat("closeup", closeUp);
+  md << "\n### Growth with N, close up (largest / smallest)\n\n";
+  writeGrowth(md, closeUp, false);
+  md << "\n### Growth decade by decade, close up (frame time per traced ray)\n\n";
+  writeDecades(md, closeUp);
 
   md << "\n## Gallery (frame 0, scene_info size, one thread)\n\n"
         "| scene | embree s | kd-tree s | kd/embree | identical pixels |\n|---|---|---|---|---|\n";
@@ -286,12 +380,13 @@ int main(int argc, char **argv) {
       std::vector<uint8_t> a = quantizeFilm(e, false), b = quantizeFilm(k, false);
       size_t same = 0, pixels = a.size() / 3;
       for (size_t i = 0; i < pixels; ++i)
-        same += a[3 * i] == b[3 * i] && a[3 * i + 1] == b[3 * i + 1] && a[3 * i + 2] == b[3 * i + 2];
+        same += std::equal(&a[3 * i], &a[3 * i + 3], &b[3 * i]);
       double te = st[0].renderSeconds + st[0].accel.buildSeconds;
       double tk = st[1].renderSeconds + st[1].accel.buildSeconds;
-      md << fmt::format("| {} | {:.3f} | {:.3f} | {:.2f}x | {:.4f} % |\n", p.stem().string(), te, tk,
-                        tk / te, 100.0 * same / pixels);
-      std::cout << p.stem().string() << " embree " << te << " s, kdtree " << tk << " s" << std::endl;
+      md << fmt::format("| {} | {:.3f} | {:.3f} | {:.2f}x | {:.4f} % |\n", p.stem().string(), te,
+                        tk, tk / te, 100.0 * same / pixels);
+      std::cout << p.stem().string() << " embree " << te << " s, kdtree " << tk << " s"
+                << std::endl;
     } catch (const std::exception &ex) {
       md << "| " << p.stem().string() << " | error: " << ex.what() << " | | | |\n";
     }

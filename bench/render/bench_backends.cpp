@@ -5,9 +5,11 @@
 //     rays), shadow (occlusion towards a light) and secondary (incoherent:
 //     random directions from the primary hits) rays; the frame time's
 //     growth with N against log N's.
-//  2. The triangle series from close up (closeUpView), the control whose
+//  2. The same series' frames at 1280x960, where the largest scenes'
+//     primitives are about pixel-sized.
+//  3. The triangle series from close up (closeUpView), the control whose
 //     rays keep their data in the caches at every N.
-//  3. The gallery (every scenes/*.lua, frame 0): render time per backend and
+//  4. The gallery (every scenes/*.lua, frame 0): render time per backend and
 //     the fraction of identical pixels.
 // Writes a Markdown table and a data file for the plot (see bench/backends).
 #include "accel/accelerator.h"
@@ -105,6 +107,24 @@ Scene withLightAndFinish(Scene scene) {
   return scene;
 }
 
+// Render time: best of three frames (the build is not part of it), and the
+// rays a frame traced.
+void renderFrames(const Scene &scene, const Accelerator &accel, int width, int height,
+                  RayFigures &f) {
+  ImageCache images(false);
+  FrameSettings settings;
+  settings.width = width;
+  settings.height = height;
+  f.render = 1e300;
+  for (int i = 0; i < 3; ++i) {
+    RayCounts counts;
+    double t0 = now();
+    Film film = renderFrame(scene, accel, images, settings, counts);
+    f.render = std::min(f.render, now() - t0);
+    f.renderRays = counts.camera + counts.shadow + counts.reflection + counts.refraction;
+  }
+}
+
 RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) {
   RayFigures f;
   double t0 = now();
@@ -166,21 +186,7 @@ RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) 
     f.secondary = secondaryRays.size() / (now() - t0) / 1e6;
     if (blocked == size_t(-1)) std::cout << ""; // keep the loops from being optimised away
   }
-  // Render time: best of three frames (the build is not part of it).
-  {
-    ImageCache images(false);
-    FrameSettings settings;
-    settings.width = width;
-    settings.height = height;
-    f.render = 1e300;
-    for (int i = 0; i < 3; ++i) {
-      RayCounts counts;
-      t0 = now();
-      Film film = renderFrame(scene, *accel, images, settings, counts);
-      f.render = std::min(f.render, now() - t0);
-      f.renderRays = counts.camera + counts.shadow + counts.reflection + counts.refraction;
-    }
-  }
+  renderFrames(scene, *accel, width, height, f);
   return f;
 }
 
@@ -209,7 +215,8 @@ void addPoint(std::vector<Series> &all, const std::string &key, size_t n, const 
   auto it = std::find_if(all.begin(), all.end(), [&](const Series &s) { return s.key == key; });
   if (it == all.end()) it = all.insert(all.end(), Series{key, {}});
   it->points.push_back({n, f.render, f.render / static_cast<double>(f.renderRays),
-                        1e-6 / f.primarySingle, f.shadow > 0 ? 1e-6 / f.shadow : 0,
+                        f.primarySingle > 0 ? 1e-6 / f.primarySingle : 0,
+                        f.shadow > 0 ? 1e-6 / f.shadow : 0,
                         f.secondary > 0 ? 1e-6 / f.secondary : 0});
 }
 
@@ -252,6 +259,8 @@ void writeDecades(std::ostream &md, const std::vector<Series> &all) {
 
 // Width of the close-up view in triangle edges.
 constexpr double kCloseUpEdges = 2;
+// The frame size of the series' second run.
+constexpr int kSampledWidth = 1280, kSampledHeight = 960;
 
 } // namespace
 
@@ -323,6 +332,38 @@ int main(int argc, char **argv) {
   md << "\n## Growth decade by decade (frame time per traced ray)\n\n";
   writeDecades(md, series);
 
+  // The same series at 1280x960: a frame of the 10^6-triangle mesh then
+  // has about one visible triangle per pixel (at 320x240, 16), so
+  // neighbouring rays share leaves, as in a render at a usable resolution.
+  md << fmt::format("\n## Series at {}x{} (frames only; about one triangle per pixel at "
+                    "10^6)\n\n",
+                    kSampledWidth, kSampledHeight)
+     << "| scene | N | backend | render s | render rays | ns per traced ray |\n"
+        "|---|---|---|---|---|---|\n";
+  std::vector<Series> sampled;
+  for (const char *kind : {"spheres", "triangles"}) {
+    for (size_t n = 100; n <= maxN; n *= 10) {
+      Scene scene = withLightAndFinish(std::string(kind) == "spheres"
+                                           ? sphereScene(n)
+                                           : bench::makeBumpySphereScene(n));
+      for (BackendKind backend : {BackendKind::Embree, BackendKind::KdTree}) {
+        RayFigures fig;
+        renderFrames(scene, *makeAccelerator(backend, scene), kSampledWidth, kSampledHeight, fig);
+        md << fmt::format("| {} | {} | {} | {:.3f} | {} | {:.1f} |\n", kind, n,
+                          backendName(backend), fig.render, fig.renderRays,
+                          1e9 * fig.render / double(fig.renderRays));
+        addPoint(sampled,
+                 fmt::format("{} {}, {}x{}", backendName(backend), kind, kSampledWidth,
+                             kSampledHeight),
+                 n, fig);
+      }
+    }
+  }
+  md << "\n### Growth with N at the larger size (largest / smallest)\n\n";
+  writeGrowth(md, sampled, false);
+  md << "\n### Growth decade by decade at the larger size (frame time per traced ray)\n\n";
+  writeDecades(md, sampled);
+
   // The control: the triangle series seen from close up (closeUpView), so
   // that the rays' data stays in the caches at every N.
   md << "\n## Close-up series (triangles; the view spans about " << kCloseUpEdges
@@ -358,6 +399,7 @@ int main(int argc, char **argv) {
   };
   writeGrowthDat("full", series);
   writeGrowthDat("closeup", closeUp);
+  writeGrowthDat("sampled", sampled);
   md << "\n### Growth with N, close up (largest / smallest)\n\n";
   writeGrowth(md, closeUp, false);
   md << "\n### Growth decade by decade, close up (frame time per traced ray)\n\n";

@@ -125,6 +125,11 @@ void renderFrames(const Scene &scene, const Accelerator &accel, int width, int h
   }
 }
 
+// The scaling series' scene of kind "spheres" or "triangles" with N primitives.
+Scene seriesScene(const std::string &kind, size_t n) {
+  return withLightAndFinish(kind == "spheres" ? sphereScene(n) : bench::makeBumpySphereScene(n));
+}
+
 RayFigures measure(const Scene &scene, BackendKind kind, int width, int height) {
   RayFigures f;
   double t0 = now();
@@ -286,9 +291,7 @@ int main(int argc, char **argv) {
   std::vector<Series> series;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
-      Scene scene = withLightAndFinish(std::string(kind) == "spheres"
-                                           ? sphereScene(n)
-                                           : bench::makeBumpySphereScene(n));
+      Scene scene = seriesScene(kind, n);
       RayFigures fig[2];
       for (int b = 0; b < 2; ++b) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;
@@ -343,9 +346,7 @@ int main(int argc, char **argv) {
   std::vector<Series> sampled;
   for (const char *kind : {"spheres", "triangles"}) {
     for (size_t n = 100; n <= maxN; n *= 10) {
-      Scene scene = withLightAndFinish(std::string(kind) == "spheres"
-                                           ? sphereScene(n)
-                                           : bench::makeBumpySphereScene(n));
+      Scene scene = seriesScene(kind, n);
       for (BackendKind backend : {BackendKind::Embree, BackendKind::KdTree}) {
         RayFigures fig;
         renderFrames(scene, *makeAccelerator(backend, scene), kSampledWidth, kSampledHeight, fig);

@@ -212,13 +212,22 @@ struct Point {
   double camera = 0, shadow = 0, secondary = 0; ///< seconds per ray of each set, backend only
 };
 struct Series {
-  std::string key; ///< backend and scene kind
+  BackendKind backend;
+  std::string kind; ///< "spheres" or "triangles"
+  std::string view; ///< how the series is rendered, for its label ("" for the first)
   std::vector<Point> points;
+
+  std::string label() const {
+    return fmt::format("{} {}{}{}", backendName(backend), kind, view.empty() ? "" : ", ", view);
+  }
 };
 
-void addPoint(std::vector<Series> &all, const std::string &key, size_t n, const RayFigures &f) {
-  auto it = std::find_if(all.begin(), all.end(), [&](const Series &s) { return s.key == key; });
-  if (it == all.end()) it = all.insert(all.end(), Series{key, {}});
+void addPoint(std::vector<Series> &all, BackendKind backend, const std::string &kind,
+              const std::string &view, size_t n, const RayFigures &f) {
+  auto it = std::find_if(all.begin(), all.end(), [&](const Series &s) {
+    return s.backend == backend && s.kind == kind;
+  });
+  if (it == all.end()) it = all.insert(all.end(), Series{backend, kind, view, {}});
   it->points.push_back({n, f.render, f.render / static_cast<double>(f.renderRays),
                         f.primarySingle > 0 ? 1e-6 / f.primarySingle : 0,
                         f.shadow > 0 ? 1e-6 / f.shadow : 0,
@@ -231,7 +240,8 @@ void writeGrowth(std::ostream &md, const std::vector<Series> &all, bool raySets)
   for (const Series &s : all) {
     const Point &a = s.points.front(), &z = s.points.back();
     auto line = [&](const char *what, double small, double large) {
-      md << logGrowthLine(fmt::format("{}: {}", s.key, what).c_str(), small, large, a.n, z.n);
+      md << logGrowthLine(fmt::format("{}: {}", s.label(), what).c_str(), small, large, a.n,
+                          z.n);
     };
     line("frame time", a.render, z.render);
     line("frame time per traced ray", a.perRay, z.perRay);
@@ -255,7 +265,7 @@ void writeDecades(std::ostream &md, const std::vector<Series> &all) {
     md << fmt::format(" {:.2f}x |", std::log(double(ns[i].n)) / std::log(double(ns[i - 1].n)));
   md << "\n";
   for (const Series &s : all) {
-    md << "| " << s.key << " |";
+    md << "| " << s.label() << " |";
     for (size_t i = 1; i < s.points.size(); ++i)
       md << fmt::format(" {:.2f}x |", s.points[i].perRay / s.points[i - 1].perRay);
     md << "\n";
@@ -264,6 +274,8 @@ void writeDecades(std::ostream &md, const std::vector<Series> &all) {
 
 // Width of the close-up view in triangle edges.
 constexpr double kCloseUpEdges = 2;
+// The frame size of the series' first run and of the close-up series.
+constexpr int kWidth = 320, kHeight = 240;
 // The frame size of the series' second run.
 constexpr int kSampledWidth = 1280, kSampledHeight = 960;
 
@@ -279,8 +291,8 @@ int main(int argc, char **argv) {
 
   std::ofstream md(outDir / "backends.md");
   std::ofstream dat(outDir / "backends.dat");
-  md << "## Scaling series (one thread, 320x240 rays)\n\n"
-        "| scene | N | backend | build s | memory MB | primary Mrays/s | primary single Mrays/s | "
+  md << fmt::format("## Scaling series (one thread, {}x{} rays)\n\n", kWidth, kHeight)
+     << "| scene | N | backend | build s | memory MB | primary Mrays/s | primary single Mrays/s | "
         "shadow Mrays/s | secondary Mrays/s | render s | render rays |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|\n";
   dat << "# kind N embree_build kd_build embree_mem kd_mem embree_primary kd_primary embree_shadow "
@@ -295,14 +307,14 @@ int main(int argc, char **argv) {
       RayFigures fig[2];
       for (int b = 0; b < 2; ++b) {
         BackendKind backend = b == 0 ? BackendKind::Embree : BackendKind::KdTree;
-        fig[b] = measure(scene, backend, 320, 240);
+        fig[b] = measure(scene, backend, kWidth, kHeight);
         md << fmt::format(
             "| {} | {} | {} | {:.3f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} | {} "
             "|\n",
             kind, n, backendName(backend), fig[b].build, fig[b].memoryMB, fig[b].primary,
             fig[b].primarySingle, fig[b].shadow, fig[b].secondary, fig[b].render,
             fig[b].renderRays);
-        addPoint(series, fmt::format("{} {}", backendName(backend), kind), n, fig[b]);
+        addPoint(series, backend, kind, "", n, fig[b]);
         std::cout << kind << " " << n << " " << backendName(backend) << " build " << fig[b].build
                   << " s, primary " << fig[b].primary << " Mrays/s" << std::endl;
       }
@@ -353,10 +365,8 @@ int main(int argc, char **argv) {
         md << fmt::format("| {} | {} | {} | {:.3f} | {} | {:.1f} |\n", kind, n,
                           backendName(backend), fig.render, fig.renderRays,
                           1e9 * fig.render / double(fig.renderRays));
-        addPoint(sampled,
-                 fmt::format("{} {}, {}x{}", backendName(backend), kind, kSampledWidth,
-                             kSampledHeight),
-                 n, fig);
+        addPoint(sampled, backend, kind, fmt::format("{}x{}", kSampledWidth, kSampledHeight), n,
+                 fig);
       }
     }
   }
@@ -375,36 +385,38 @@ int main(int argc, char **argv) {
   for (size_t n = 100; n <= maxN; n *= 10) {
     Scene scene = withLightAndFinish(closeUpView(bench::makeBumpySphereScene(n), n, kCloseUpEdges));
     for (BackendKind backend : {BackendKind::Embree, BackendKind::KdTree}) {
-      RayFigures fig = measure(scene, backend, 320, 240);
+      RayFigures fig = measure(scene, backend, kWidth, kHeight);
       md << fmt::format("| {} | {} | {:.4f} | {} | {:.1f} % | {:.1f} |\n", n, backendName(backend),
-                        fig.render, fig.renderRays, 100.0 * fig.hits / (320 * 240),
+                        fig.render, fig.renderRays, 100.0 * fig.hits / (kWidth * kHeight),
                         1e9 * fig.render / double(fig.renderRays));
-      addPoint(closeUp, fmt::format("{} triangles, close up", backendName(backend)), n, fig);
+      addPoint(closeUp, backend, "triangles", "close up", n, fig);
     }
   }
-  // The plot's growth panels: frame time per traced ray over the smallest
-  // N's, per series (full view and close up).
-  std::ofstream growthDat(outDir / "growth.dat");
-  growthDat << "# view kind N embree kd (frame time per traced ray / the smallest N's)\n";
-  auto writeGrowthDat = [&](const char *view, const std::vector<Series> &all) {
-    // Series come in pairs, Embree then kd-tree, keyed "<backend> <kind>[, ...]".
-    for (size_t i = 0; i + 1 < all.size(); i += 2) {
-      const std::string &key = all[i].key;
-      const size_t from = key.find(' ') + 1;
-      const std::string kind = key.substr(from, key.find(',', from) - from);
-      const auto &e = all[i].points, &k = all[i + 1].points;
-      for (size_t j = 0; j < e.size() && j < k.size(); ++j)
-        growthDat << fmt::format("{} {} {} {} {}\n", view, kind, e[j].n,
-                                 e[j].perRay / e[0].perRay, k[j].perRay / k[0].perRay);
-    }
-  };
-  writeGrowthDat("full", series);
-  writeGrowthDat("closeup", closeUp);
-  writeGrowthDat("sampled", sampled);
   md << "\n### Growth with N, close up (largest / smallest)\n\n";
   writeGrowth(md, closeUp, false);
   md << "\n### Growth decade by decade, close up (frame time per traced ray)\n\n";
   writeDecades(md, closeUp);
+
+  // The plot's growth panels: frame time per traced ray over the smallest
+  // N's, both backends side by side, per view and kind.
+  std::ofstream growthDat(outDir / "growth.dat");
+  growthDat << "# view kind N embree kd (frame time per traced ray / the smallest N's)\n";
+  auto writeGrowthDat = [&](const char *view, const std::vector<Series> &all) {
+    for (const Series &e : all) {
+      if (e.backend != BackendKind::Embree) continue;
+      auto k = std::find_if(all.begin(), all.end(), [&](const Series &s) {
+        return s.backend == BackendKind::KdTree && s.kind == e.kind;
+      });
+      if (k == all.end()) continue;
+      for (size_t j = 0; j < e.points.size() && j < k->points.size(); ++j)
+        growthDat << fmt::format("{} {} {} {} {}\n", view, e.kind, e.points[j].n,
+                                 e.points[j].perRay / e.points[0].perRay,
+                                 k->points[j].perRay / k->points[0].perRay);
+    }
+  };
+  writeGrowthDat("full", series);
+  writeGrowthDat("sampled", sampled);
+  writeGrowthDat("closeup", closeUp);
 
   md << "\n## Gallery (frame 0, scene_info size, one thread)\n\n"
         "| scene | embree s | kd-tree s | kd/embree | identical pixels |\n|---|---|---|---|---|\n";

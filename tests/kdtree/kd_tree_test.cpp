@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -282,6 +283,157 @@ TEST(KdTree, StartSideDescentEntersEveryLeafOfTheGeneralLoop) {
     EXPECT_LT(raysWithExtra, rays.size() / 50) << "offset " << offset;
     EXPECT_LT(extra, leaves / 200) << "offset " << offset;
     checkAgainstBruteForce(tree, soup, rays);
+  }
+}
+
+// One leaf call of a walk: the leaf's list offset and the lane's tMax then.
+struct LeafCall {
+  uint32_t offset;
+  double tMax;
+  bool operator==(const LeafCall &) const = default;
+};
+
+// The nearest (AnyHit: first) soup triangle among a leaf's references for
+// `ray` with t in (tMin, tMax), lowering tMax; records the call.
+template <bool AnyHit>
+bool testSoupLeaf(const KdTree &tree, const TriangleSoup &soup, const Ray &ray, uint32_t offset,
+                  uint32_t count, double &tMax, Nearest &best, std::vector<LeafCall> &calls) {
+  calls.push_back({offset, tMax});
+  const WatertightRay wr(ray);
+  bool hit = false;
+  for (uint32_t k = 0; k < count; ++k) {
+    const uint32_t i = tree.primIndices()[offset + k];
+    TriangleHitParams p;
+    const Vec3 *c = &soup.corners[3 * size_t{i}];
+    if (!intersectTriangle(wr, c[0], c[1], c[2], tMax, p)) continue;
+    tMax = p.t;
+    best = {p.t, i};
+    hit = true;
+    if (AnyHit) break;
+  }
+  return hit;
+}
+
+// Each lane of a packet must make the leaf calls of its own walk by the
+// general loop, in the same order and with the same tMax, and find the same
+// triangle: packets whose rays share every direction sign (walked
+// together), from points on split planes, beside them, on the root box's
+// faces and at tMin > 0, with lanes left out; and packets of mixed signs or
+// with direction components of 0 (each lane on its own).
+template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
+  TriangleSoup soup = randomSoup(3000, 21, 1.0);
+  for (Vec3 &c : soup.corners) c = TriangleSoup::roundToFloat(c + Vec3(far, -far, far));
+  const Vec3 shift(far, -far, far);
+  KdTree tree = soup.buildTree();
+  Rng rng(22);
+  constexpr int kLanes = KdTree::kPacketRays;
+  std::vector<std::array<Ray, kLanes>> packets;
+  auto sameSigns = [](Vec3 d, const Vec3 &like) {
+    for (int a = 0; a < 3; ++a) d[a] = std::copysign(std::fabs(d[a]), like[a]);
+    return d;
+  };
+  int planes = 0;
+  for (const KdNode &node : tree.nodes()) {
+    if (node.isLeaf() || planes >= 150) continue;
+    ++planes;
+    const int axis = node.axis();
+    const Vec3 d = rng.direction();
+    std::array<Ray, kLanes> onPlane, beside, later, toFace;
+    for (int i = 0; i < kLanes; ++i) {
+      Vec3 o = rng.inBox(shift - Vec3(11, 11, 11), shift + Vec3(11, 11, 11));
+      o[axis] = node.split();
+      const Vec3 di = sameSigns(d + rng.direction() * 0.2, d);
+      onPlane[i] = {o, di};
+      Vec3 near = o;
+      near[axis] += (i % 2 ? 1e-9 : -1e-7) * std::max(1.0, std::fabs(o[axis]));
+      beside[i] = {near, di};
+      const double tMin = rng.uniform(0.5, 20);
+      later[i] = {o - di * tMin, di};
+      later[i].tMin = tMin * (i % 2 ? 1 : 1 + 5e-10);
+      Vec3 face = o;
+      const int other = (axis + 1) % 3;
+      face[other] = d[other] > 0 ? tree.bounds().lo[other] : tree.bounds().hi[other];
+      toFace[i] = {face - di * 5, di};
+    }
+    packets.insert(packets.end(), {onPlane, beside, later, toFace});
+  }
+  // Camera-like packets (near origins, near directions) through the soup.
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 o = rng.inBox(shift - Vec3(15, 15, 15), shift + Vec3(15, 15, 15));
+    const Vec3 d = rng.direction();
+    std::array<Ray, kLanes> packet;
+    for (int i = 0; i < kLanes; ++i) {
+      packet[i] = {o + rng.direction() * 0.3, sameSigns(d + rng.direction() * 0.05, d)};
+      if (k % 3 == 0) packet[i].tMax = rng.uniform(1, 30);
+    }
+    packets.push_back(packet);
+  }
+  // Lanes on their own: independent rays, and components of 0.
+  for (int k = 0; k < 300; ++k) {
+    std::array<Ray, kLanes> packet;
+    for (int i = 0; i < kLanes; ++i) {
+      Vec3 d = rng.direction();
+      if (k % 2 == 0) d[i % 3] = 0;
+      packet[i] = {rng.inBox(shift - Vec3(15, 15, 15), shift + Vec3(15, 15, 15)), d};
+    }
+    packets.push_back(packet);
+  }
+  int together = 0, calls = 0, hits = 0;
+  for (size_t k = 0; k < packets.size(); ++k) {
+    const std::array<Ray, kLanes> &rays = packets[k];
+    // Every fifth packet leaves a lane out.
+    const uint32_t lanes = k % 5 == 0 ? 0xfu & ~(1u << (k / 5 % kLanes)) : 0xfu;
+    bool signsAgree = true;
+    for (int i = 1; i < kLanes; ++i)
+      for (int a = 0; a < 3; ++a)
+        signsAgree = signsAgree && rays[i].d[a] != 0 && (rays[i].d[a] < 0) == (rays[0].d[a] < 0);
+    together += signsAgree;
+    std::vector<LeafCall> expected[kLanes], got[kLanes];
+    Nearest expectedBest[kLanes], gotBest[kLanes];
+    double tMax[kLanes];
+    for (int i = 0; i < kLanes; ++i) {
+      tMax[i] = rays[i].tMax;
+      if (!(lanes >> i & 1u)) continue;
+      double t = rays[i].tMax;
+      tree.traverseLeaves<AnyHit, KdRays::Coherent>(
+          rays[i], t, [&](uint32_t offset, uint32_t count, double &tBest) {
+            return testSoupLeaf<AnyHit>(tree, soup, rays[i], offset, count, tBest,
+                                        expectedBest[i], expected[i]);
+          });
+    }
+    const uint32_t found = tree.traversePacket<AnyHit>(
+        rays.data(), lanes, tMax, [&](uint32_t offset, uint32_t count, uint32_t in, double *t) {
+          uint32_t hit = 0;
+          for (int i = 0; i < kLanes; ++i) {
+            if (!(in >> i & 1u)) continue;
+            EXPECT_TRUE(lanes >> i & 1u);
+            if (testSoupLeaf<AnyHit>(tree, soup, rays[i], offset, count, t[i], gotBest[i], got[i]))
+              hit |= 1u << i;
+          }
+          return hit;
+        });
+    for (int i = 0; i < kLanes; ++i) {
+      ASSERT_EQ(expected[i], got[i]) << "packet " << k << " lane " << i;
+      EXPECT_EQ(expectedBest[i].prim, gotBest[i].prim);
+      EXPECT_EQ(expectedBest[i].t, gotBest[i].t);
+      EXPECT_EQ(found >> i & 1u, expectedBest[i].found() ? 1u : 0u);
+      if (expectedBest[i].found()) {
+        EXPECT_EQ(tMax[i], expectedBest[i].t);
+      }
+      calls += static_cast<int>(got[i].size());
+      hits += expectedBest[i].found();
+    }
+  }
+  ASSERT_GT(planes, 100);
+  EXPECT_GT(together, static_cast<int>(packets.size() / 2));
+  EXPECT_GT(calls, static_cast<int>(2 * packets.size()));
+  EXPECT_GT(hits, static_cast<int>(packets.size()));
+}
+
+TEST(KdTree, PacketLanesMakeTheLeafCallsOfTheirOwnWalk) {
+  for (double offset : {0.0, 3e5}) {
+    checkPacketsMatchGeneralLoop<false>(offset);
+    checkPacketsMatchGeneralLoop<true>(offset);
   }
 }
 

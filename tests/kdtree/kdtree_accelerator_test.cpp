@@ -4,11 +4,13 @@
 
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
+#include "geometry/spawn.h"
 #include "hit_expect.h"
 #include "kdtree/kdtree_test_util.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lray {
@@ -162,6 +164,80 @@ TEST(KdTreeAccelerator, CoherentBatchMatchesSingleRaysBitForBit) {
   EXPECT_GT(kinds[0], 100);
   EXPECT_GT(kinds[1], 100);
   EXPECT_GT(kinds[2], 100);
+}
+
+// Packets (a scene with a large mesh): intersectCoherent and
+// occludedCoherent must agree with single rays field for field, for a
+// camera's tiles (rays in rows of 16, as the renderer issues them), the
+// shadow rays from their hits to a light, and batches of unrelated rays
+// (each lane on its own), over the identity mesh, a transformed copy, a
+// small mesh below the packets' size and analytic shapes (one of them met
+// after a farther triangle).
+TEST(KdTreeAccelerator, PacketsMatchSingleRaysBitForBit) {
+  Scene scene = mixedScene();
+  MeshDataPtr big = kdtest::makeJitteredSphere(80, 160, 0.1, 6);
+  scene.entities[0].mesh = big;
+  scene.entities[1].mesh = big;
+  scene.entities.push_back(meshEntity(kdtest::makeJitteredSphere(6, 12, 0.1, 7),
+                                      Transform::translate({2, 2, -2})));
+  // A sphere in front of the big mesh, inside its bounds: met after it in
+  // their top-level leaf, nearer than its triangles.
+  scene.entities.push_back(
+      shape(ShapeKind::Sphere, Transform::translate({0.3, 0.1, -1.2}) * Transform::scale(0.4, 0.4, 0.4)));
+  KdTreeAccelerator accel(scene);
+  ASSERT_TRUE(accel.usesPackets());
+  ASSERT_EQ(accel.meshTreeCount(), 2u);
+
+  // 64x48 camera rays from z = -4, tile by tile (16x16, row-major).
+  std::vector<Ray> rays;
+  const int width = 64, height = 48;
+  for (int ty = 0; ty < height; ty += 16)
+    for (int tx = 0; tx < width; tx += 16)
+      for (int y = ty; y < ty + 16; ++y)
+        for (int x = tx; x < tx + 16; ++x)
+          rays.push_back({{0.3, 0.1, -4}, {(x - 32 + 0.5) / 64.0, (24 - y - 0.5) / 64.0, 1.5}});
+  Rng rng(9);
+  for (int i = 0; i < 2500; ++i) {
+    Vec3 o = rng.inBox({-8, -8, -8}, {8, 8, 8});
+    rays.push_back({o, rng.inBox({-4, -4, -1}, {5, 4, 1}) - o});
+    if (i % 5 == 0) rays.back().tMax = rng.uniform(0, 1.2);
+  }
+  std::vector<Hit> batch(rays.size());
+  std::vector<uint8_t> found(rays.size(), 9);
+  std::vector<Ray> shadowRays;
+  int kinds[4] = {0, 0, 0, 0}; // identity mesh, copy, analytic, small mesh
+  for (size_t first = 0; first < rays.size(); first += 256) {
+    const size_t count = std::min<size_t>(256, rays.size() - first);
+    accel.intersectCoherent(rays.data() + first, count, batch.data() + first,
+                            found.data() + first);
+  }
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    bool f = accel.intersect(rays[i], single);
+    ASSERT_EQ(found[i], f ? 1 : 0) << i;
+    if (!f) continue;
+    testing::expectSameHit(batch[i], single);
+    ++kinds[single.entity < 2 ? single.entity : single.entity == 6 ? 3 : 2];
+    shadowRays.push_back(spawnRayTo(single, {-3, 9, -9}));
+  }
+  EXPECT_GT(kinds[0], 1500);
+  EXPECT_GT(kinds[1], 100);
+  EXPECT_GT(kinds[2], 200);
+  EXPECT_GT(kinds[3], 40);
+
+  std::vector<uint8_t> blocked(shadowRays.size(), 9);
+  for (size_t first = 0; first < shadowRays.size(); first += 253) {
+    const size_t count = std::min<size_t>(253, shadowRays.size() - first);
+    accel.occludedCoherent(shadowRays.data() + first, count, blocked.data() + first);
+  }
+  int shadowed = 0;
+  for (size_t i = 0; i < shadowRays.size(); ++i) {
+    const bool single = accel.occluded(shadowRays[i]);
+    ASSERT_EQ(blocked[i], single ? 1 : 0) << i;
+    shadowed += single;
+  }
+  EXPECT_GT(shadowed, 500);
+  EXPECT_LT(shadowed, static_cast<int>(shadowRays.size()) - 500);
 }
 
 // Rays from inside transformed instances of a closed mesh, aimed exactly at

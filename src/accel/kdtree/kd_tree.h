@@ -12,8 +12,10 @@
 #include "math/ray.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <emmintrin.h>
 #include <functional>
 #include <limits>
 #include <span>
@@ -96,6 +98,25 @@ public:
   /// within a tiny margin of a plane (see kStartOriginRel).
   template <bool AnyHit, KdRays Rays = KdRays::Incoherent, class LeafTest>
   bool traverseLeaves(const Ray &ray, double &tMax, LeafTest &&testLeaf) const;
+
+  /// Rays walked together by traversePacket.
+  static constexpr int kPacketRays = 4;
+
+  /// Up to kPacketRays rays (lane i: rays[i], where bit i of `lanes` is
+  /// set) through the tree together: each lane visits the cells its own
+  /// walk by the general loop visits, in the same order and with the same
+  /// segment, so its results are those of traverseLeaves with
+  /// KdRays::Coherent. One leaf call serves the lanes in that cell:
+  /// `uint32_t testLeaf(uint32_t offset, uint32_t count, uint32_t lanes,
+  /// double *tMax)` tests the leaf's references for each lane i of `lanes`
+  /// with t in (rays[i].tMin, tMax[i]), lowers tMax[i] on a hit and returns
+  /// the lanes that hit. The lanes share each node's load and step when
+  /// their rays move the same way along every axis (rays to or from nearby
+  /// points); otherwise each lane walks on its own. Returns the lanes that
+  /// hit (any hit: a lane stops at its first).
+  template <bool AnyHit, class LeafTest>
+  uint32_t traversePacket(const Ray *rays, uint32_t lanes, double *tMax,
+                          LeafTest &&testLeaf) const;
 
   /// Bounds of all primitives (rounded outwards to float), tree space.
   const Bounds3 &bounds() const { return bounds_; }
@@ -183,6 +204,11 @@ private:
   // least kDescentMinNodes nodes.
   template <bool AnyHit, class LeafTest>
   bool descend(const RaySetup &r, double &tMax, LeafTest &testLeaf) const;
+
+  // The packet walk of traversePacket over lanes whose rays all move the
+  // same way along every axis (see there).
+  template <bool AnyHit, class LeafTest>
+  uint32_t walkPacket(const RaySetup *r, uint32_t lanes, double *tMax, LeafTest &testLeaf) const;
 
   std::vector<KdNode> nodes_;
   std::vector<uint32_t> primIndices_;
@@ -410,6 +436,151 @@ template <bool AnyHit, class LeafTest>
     t1 = stack[top].tMax;
   }
   return hit;
+}
+
+template <bool AnyHit, class LeafTest>
+inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *tMax,
+                                       LeafTest &&testLeaf) const {
+  RaySetup r[kPacketRays];
+  uint32_t live = 0;
+  for (int i = 0; i < kPacketRays; ++i)
+    if ((lanes >> i & 1u) && clipToBounds(rays[i], tMax[i], r[i])) live |= 1u << i;
+  if (live == 0) return 0;
+  // Together: rays that move the same way along every axis, none parallel
+  // to a plane (those take the general loop's own branch) or out of range.
+  const RaySetup &lead = r[std::countr_zero(live)];
+  bool together = std::popcount(live) > 1;
+  for (int i = 0; i < kPacketRays; ++i) {
+    if (!(live >> i & 1u)) continue;
+    together = together && ordinary(r[i]) && r[i].dirNegative[0] == lead.dirNegative[0] &&
+               r[i].dirNegative[1] == lead.dirNegative[1] &&
+               r[i].dirNegative[2] == lead.dirNegative[2];
+  }
+  if (together) return walkPacket<AnyHit>(r, live, tMax, testLeaf);
+  uint32_t hits = 0;
+  for (int i = 0; i < kPacketRays; ++i) {
+    if (!(live >> i & 1u)) continue;
+    // walkGeneral hands the leaf test tMax[i] itself (by reference), so the
+    // lane's entry of the array is the one it lowers.
+    auto laneLeaf = [&testLeaf, tMax, i](uint32_t offset, uint32_t count, double &) {
+      return testLeaf(offset, count, 1u << i, tMax) != 0;
+    };
+    if (walkGeneral<AnyHit>(r[i], tMax[i], laneLeaf)) hits |= 1u << i;
+  }
+  return hits;
+}
+
+template <bool AnyHit, class LeafTest>
+uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
+                            LeafTest &testLeaf) const {
+  // walkGeneral's steps, lane by lane, on one node at a time: a lane goes
+  // to each child that its own walk would visit, with the same segment;
+  // the packet visits a child when any lane does. A cell waiting on the
+  // stack keeps its lanes and their segments. The lanes' arithmetic runs
+  // in SSE2 pairs, operation for operation as walkGeneral's (no NaN can
+  // arise: no direction component is 0), so every decision is the same.
+  static_assert(kPacketRays == 4, "two SSE2 pairs of lanes");
+  struct Lanes {
+    __m128d lo, hi;
+  };
+  auto load = [](const double *p) { return Lanes{_mm_load_pd(p), _mm_load_pd(p + 2)}; };
+  auto store = [](double *p, const Lanes &v) {
+    _mm_store_pd(p, v.lo);
+    _mm_store_pd(p + 2, v.hi);
+  };
+  auto bits = [](__m128d lo, __m128d hi) {
+    return static_cast<uint32_t>(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
+  };
+  struct alignas(16) PacketTodo {
+    double tMin[kPacketRays], tMax[kPacketRays];
+    uint32_t node, lanes;
+  };
+  alignas(16) double org[3][kPacketRays], invD[3][kPacketRays];
+  alignas(16) double t0[kPacketRays], t1[kPacketRays];
+  for (int i = 0; i < kPacketRays; ++i) {
+    // Lanes outside the packet copy a member's ray (they stay masked).
+    const RaySetup &ri = r[(lanes >> i & 1u) ? i : std::countr_zero(lanes)];
+    for (int a = 0; a < 3; ++a) {
+      org[a][i] = ri.org[a];
+      invD[a][i] = ri.invD[a];
+    }
+    t0[i] = ri.tEnter;
+    t1[i] = ri.tExit;
+  }
+  PacketTodo stack[kMaxDepth + 2];
+  int top = 0;
+  uint32_t nodeIndex = 0, cellLanes = lanes, hits = 0, done = 0;
+  const uint32_t *dirNegative = r[std::countr_zero(lanes)].dirNegative;
+  const __m128d signMask = _mm_set1_pd(-0.0), slackFactor = _mm_set1_pd(kSlack);
+  for (;;) {
+    // A lane whose hit (or segment end) lies before this cell's entry is
+    // done with it, as walkGeneral stops there.
+    const Lanes enter = load(t0), limit = {_mm_loadu_pd(tMax), _mm_loadu_pd(tMax + 2)};
+    uint32_t in = bits(_mm_cmple_pd(enter.lo, limit.lo), _mm_cmple_pd(enter.hi, limit.hi));
+    in &= cellLanes & ~done;
+    if (in != 0) {
+      const KdNode node = nodes_[nodeIndex];
+      if (!node.isLeaf()) {
+        const int axis = node.axis();
+        const __m128d split = _mm_set1_pd(node.split());
+        const uint32_t below = node.childIndex();
+        const uint32_t nearChild = below + dirNegative[axis];
+        const uint32_t farChild = below + 1 - dirNegative[axis];
+        const Lanes o = load(org[axis]), inv = load(invD[axis]), exit = load(t1);
+        uint32_t nearLanes = 0, farLanes = 0;
+        Lanes nearT1, farT0;
+        for (int h = 0; h < 2; ++h) {
+          const __m128d t0h = h ? enter.hi : enter.lo, t1h = h ? exit.hi : exit.lo;
+          const __m128d tPlane = _mm_mul_pd(_mm_sub_pd(split, h ? o.hi : o.lo), h ? inv.hi : inv.lo);
+          const __m128d slack = _mm_mul_pd(_mm_andnot_pd(signMask, tPlane), slackFactor);
+          const __m128d tLo = _mm_sub_pd(tPlane, slack), tHi = _mm_add_pd(tPlane, slack);
+          const __m128d nearNeeded = _mm_cmpge_pd(tHi, t0h);
+          const __m128d farNeeded = _mm_or_pd(_mm_cmplt_pd(tHi, t0h), _mm_cmple_pd(tLo, t1h));
+          nearLanes |= static_cast<uint32_t>(_mm_movemask_pd(nearNeeded)) << 2 * h;
+          farLanes |= static_cast<uint32_t>(_mm_movemask_pd(farNeeded)) << 2 * h;
+          // std::min(t1, tHi) and std::max(t0, tLo), as walkGeneral takes them.
+          (h ? nearT1.hi : nearT1.lo) = _mm_min_pd(tHi, t1h);
+          (h ? farT0.hi : farT0.lo) = _mm_max_pd(tLo, t0h);
+        }
+        nearLanes = nodes_[nearChild].isEmptyLeaf() ? 0 : nearLanes & in;
+        farLanes = nodes_[farChild].isEmptyLeaf() ? 0 : farLanes & in;
+        if (nearLanes != 0) {
+          if (farLanes != 0) {
+            PacketTodo &todo = stack[top++];
+            todo.node = farChild;
+            todo.lanes = farLanes;
+            store(todo.tMin, farT0);
+            store(todo.tMax, exit);
+          }
+          nodeIndex = nearChild;
+          cellLanes = nearLanes;
+          store(t1, nearT1);
+          continue;
+        }
+        if (farLanes != 0) {
+          nodeIndex = farChild;
+          cellLanes = farLanes;
+          store(t0, farT0);
+          continue;
+        }
+        // Nothing below this node for any lane: next cell from the stack.
+      } else if (node.primCount() > 0) {
+        const uint32_t found = testLeaf(node.primOffset(), node.primCount(), in, tMax);
+        hits |= found;
+        if (AnyHit) {
+          done |= found;
+          if (done == lanes) return hits;
+        }
+      }
+    }
+    if (top == 0) break;
+    const PacketTodo &todo = stack[--top];
+    nodeIndex = todo.node;
+    cellLanes = todo.lanes;
+    store(t0, load(todo.tMin));
+    store(t1, load(todo.tMax));
+  }
+  return hits;
 }
 
 } // namespace lray

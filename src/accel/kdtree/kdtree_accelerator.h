@@ -25,10 +25,11 @@ public:
 
   bool intersect(const Ray &ray, Hit &hit) const override;
   bool occluded(const Ray &ray) const override;
-  /// Loops over single rays (the kd-tree has no packet traversal): camera
-  /// rays by the tree walk whose branches predict well on neighbouring rays
-  /// (KdRays::Coherent; single rays take the Incoherent one), shadow rays
-  /// as single rays do (see occludedCoherent).
+  /// Packets of KdTree::kPacketRays consecutive rays through both levels
+  /// (KdTree::traversePacket) where usesPackets(): the same results as
+  /// single rays by the general loop. Otherwise single rays: camera rays by
+  /// the general loop, whose branches predict well on neighbouring rays
+  /// (KdRays::Coherent), shadow rays as intersect() and occluded() take them.
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
   /// primitives: analytic shapes + triangles of the distinct meshes;
@@ -39,6 +40,9 @@ public:
   const KdTree &topLevelTree() const { return top_; }
   /// Number of bottom-level trees (distinct meshes).
   size_t meshTreeCount() const { return meshTrees_.size(); }
+  /// Whether intersectCoherent and occludedCoherent trace packets (some
+  /// tree has kPacketMinNodes nodes or more); otherwise single rays.
+  bool usesPackets() const { return usePackets_; }
   /// Bottom-level tree i, over one distinct mesh's triangles in object space.
   const KdTree &meshTree(size_t i) const { return meshTrees_[i].tree; }
 
@@ -71,10 +75,38 @@ private:
     uint32_t ref = 0;
     double b1 = 0, b2 = 0;
   };
+  static constexpr int kRays = KdTree::kPacketRays;
+  /// A mesh hit of a closest-hit query, before its Hit is filled.
+  struct TriangleCandidate {
+    uint32_t entity = 0, meshTree = 0;
+    MeshHit mesh;
+  };
+  /// The nearest finds of a packet's closest-hit query: lane i's nearest
+  /// is triangles[i] where bit i of triangleLanes is set, else the shape
+  /// hit written to shapeHits[i].
+  struct PacketFinds {
+    Hit *shapeHits = nullptr;
+    TriangleCandidate triangles[KdTree::kPacketRays];
+    uint32_t triangleLanes = 0;
+  };
   /// The nearest (AnyHit: any) triangle of a mesh instance with t in
   /// (ray.tMin, tBest), `ray` in world space; lowers tBest to a hit's t.
   template <bool AnyHit, KdRays Rays>
   bool intersectMesh(const Instance &inst, const Ray &ray, double &tBest, MeshHit &hit) const;
+  /// The leaf test of intersectMesh for one ray (Kz: its kz): references
+  /// [offset, offset + count) of mt's tree, t in (tMin, tTri).
+  template <bool AnyHit, int Kz>
+  bool testMeshLeaf(const MeshTree &mt, const WatertightRay &wray, const PrefilterRay &fray,
+                    uint32_t offset, uint32_t count, double &tTri, MeshHit &hit) const;
+  /// intersectMesh for the lanes of a packet (bit i: rays[i]); returns the
+  /// lanes that hit.
+  template <bool AnyHit>
+  uint32_t intersectMeshPacket(const Instance &inst, const Ray *rays, uint32_t lanes,
+                               double *tBest, MeshHit *hits) const;
+  /// A packet through both levels: the lanes that hit; for closest hits,
+  /// each lane's nearest find in `finds`, with tMax lowered to its t.
+  template <bool AnyHit>
+  uint32_t packetQuery(const Ray *rays, uint32_t lanes, double *tMax, PacketFinds *finds) const;
   /// intersect() and occluded() by either walk of the trees.
   template <KdRays Rays> bool intersectRay(const Ray &ray, Hit &hit) const;
   template <KdRays Rays> bool occludedRay(const Ray &ray) const;
@@ -85,6 +117,8 @@ private:
   Vec3 frameOrigin_;
   /// Leaf triangles go through the prefilter two packets at a time (AVX2).
   bool useAvx2_;
+  /// Some tree is large enough for packets (kPacketMinNodes).
+  bool usePackets_ = false;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
   /// objectFromWorld of each transformed mesh instance.

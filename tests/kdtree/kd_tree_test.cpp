@@ -136,6 +136,15 @@ TEST(KdTree, RandomBoxesMatchBruteForce) {
   EXPECT_GT(hits, 1000);
 }
 
+// The tree's first `count` interior nodes (node order): split planes to
+// start rays on.
+std::vector<KdNode> firstInteriorNodes(const KdTree &tree, size_t count) {
+  std::vector<KdNode> nodes;
+  for (const KdNode &node : tree.nodes())
+    if (!node.isLeaf() && nodes.size() < count) nodes.push_back(node);
+  return nodes;
+}
+
 // Rays parallel to split planes, lying in them, and starting on them: the
 // cases where pbrt-v3 computes (split - o) * inf = NaN.
 TEST(KdTree, RaysParallelToAndOnSplitPlanes) {
@@ -143,10 +152,8 @@ TEST(KdTree, RaysParallelToAndOnSplitPlanes) {
   KdTree tree = soup.buildTree();
   std::vector<Ray> rays;
   Rng rng(7);
-  int planes = 0;
-  for (const KdNode &node : tree.nodes()) {
-    if (node.isLeaf() || planes >= 150) continue;
-    ++planes;
+  const std::vector<KdNode> planes = firstInteriorNodes(tree, 150);
+  for (const KdNode &node : planes) {
     int axis = node.axis();
     for (int k = 0; k < 4; ++k) {
       Vec3 o = rng.inBox({-12, -12, -12}, {12, 12, 12});
@@ -169,7 +176,7 @@ TEST(KdTree, RaysParallelToAndOnSplitPlanes) {
       rays.push_back({from, target - from});
     }
   }
-  ASSERT_GT(planes, 40);
+  ASSERT_GT(planes.size(), 40u);
   checkAgainstBruteForce(tree, soup, rays);
 }
 
@@ -209,10 +216,8 @@ TEST(KdTree, StartSideDescentEntersEveryLeafOfTheGeneralLoop) {
       q[node.axis()] = node.split();
       return q;
     };
-    int planes = 0;
-    for (const KdNode &node : tree.nodes()) {
-      if (node.isLeaf() || planes >= 200) continue;
-      ++planes;
+    const std::vector<KdNode> planes = firstInteriorNodes(tree, 200);
+    for (const KdNode &node : planes) {
       const int axis = node.axis();
       for (int k = 0; k < 3; ++k) {
         Vec3 o = onPlane(node, rng.inBox(shift - Vec3(11, 11, 11), shift + Vec3(11, 11, 11)));
@@ -259,7 +264,7 @@ TEST(KdTree, StartSideDescentEntersEveryLeafOfTheGeneralLoop) {
       if (i % 3 == 0) ray.tMin = rng.uniform(0, 10);
       rays.push_back(ray);
     }
-    ASSERT_GT(planes, 100);
+    ASSERT_GT(planes.size(), 100u);
     size_t leaves = 0, extra = 0, raysWithExtra = 0;
     for (const Ray &ray : rays) {
       const std::vector<uint32_t> general = leavesVisited<true>(tree, ray);
@@ -332,10 +337,8 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
     for (int a = 0; a < 3; ++a) d[a] = std::copysign(std::fabs(d[a]), like[a]);
     return d;
   };
-  int planes = 0;
-  for (const KdNode &node : tree.nodes()) {
-    if (node.isLeaf() || planes >= 150) continue;
-    ++planes;
+  const std::vector<KdNode> planes = firstInteriorNodes(tree, 150);
+  for (const KdNode &node : planes) {
     const int axis = node.axis();
     const Vec3 d = rng.direction();
     std::array<Ray, kLanes> onPlane, beside, later, toFace;
@@ -424,7 +427,7 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
       hits += expectedBest[i].found();
     }
   }
-  ASSERT_GT(planes, 100);
+  ASSERT_GT(planes.size(), 100u);
   EXPECT_GT(together, static_cast<int>(packets.size() / 2));
   EXPECT_GT(calls, static_cast<int>(2 * packets.size()));
   EXPECT_GT(hits, static_cast<int>(packets.size()));

@@ -66,8 +66,7 @@ public:
   /// sampler draws and counts as shadeHit ray by ray. The camera hits'
   /// shadow rays go to the accelerator as one coherent batch per light
   /// sample (occludedCoherent: neighbouring pixels' rays to one point of a
-  /// light), and their first reflected rays as one more (intersectCoherent).
-  /// count <= kMaxTileRays.
+  /// light). count <= kMaxTileRays.
   void shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found, Sampler *samplers,
                  size_t count, Color *out, RayCounts &counts) const;
 
@@ -180,33 +179,12 @@ private:
     std::array<Pending, kMaxTileRays> pending;
     std::array<Ray, kMaxTileRays> shadowRays;
     std::array<uint8_t, kMaxTileRays> blocked;
-    // The tile's first reflected rays, their hits, and each ray's index
-    // among them (kNone: none traced).
-    std::array<Ray, kMaxTileRays> mirrorRays;
-    std::array<Hit, kMaxTileRays> mirrorHits;
-    std::array<uint8_t, kMaxTileRays> mirrorFound;
-    std::array<uint32_t, kMaxTileRays> mirrorOf;
   };
-  static constexpr uint32_t kNone = ~0u;
 
-  /// The reflected ray's weight kr at this depth and weight (the mirror
-  /// finish's share, plus the refracted share under total internal
-  /// reflection), 0 when no reflected ray is traced; its direction in
-  /// `mirrorDir`.
-  double reflectionWeight(const Surface &s, int depth, double weight, Vec3 &mirrorDir) const;
-  /// A reflected ray already traced (shadeTile traces a tile's first
-  /// reflections as one batch): the ray and its hit, if found.
-  struct TracedRay {
-    const Ray *ray;
-    const Hit *hit;
-    bool found;
-  };
   /// shade after the ambient and direct light (`c`): adds what the
-  /// reflected and refracted rays bring (the reflected ray's hit taken from
-  /// `reflected` when given).
+  /// reflected and refracted rays bring.
   Color addSecondary(const Hit &hit, const Surface &s, Color c, int depth, double weight,
-                     Sampler &sampler, RayCounts &counts,
-                     const TracedRay *reflected = nullptr) const;
+                     Sampler &sampler, RayCounts &counts) const;
 
   const Accel &accel_;
   Color background_;
@@ -357,23 +335,6 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
       }
     }
   }
-  // The first reflected rays of the whole tile as one coherent batch
-  // (neighbouring hits reflect into neighbouring directions). Tracing
-  // draws no samples, so each ray's shading below draws as it would have.
-  auto &mirrorRays = scratch.mirrorRays;
-  auto &mirrorHits = scratch.mirrorHits;
-  auto &mirrorFound = scratch.mirrorFound;
-  auto &mirrorOf = scratch.mirrorOf;
-  uint32_t mirrors = 0;
-  for (size_t i = 0; i < count; ++i) {
-    mirrorOf[i] = kNone;
-    Vec3 mirrorDir;
-    if (!found[i] || !(reflectionWeight(surface[i], 0, 1.0, mirrorDir) > 0)) continue;
-    mirrorRays[mirrors] = spawnRay(hits[i], mirrorDir);
-    mirrorOf[i] = mirrors++;
-  }
-  if (mirrors > 0)
-    accel_.intersectCoherent(mirrorRays.data(), mirrors, mirrorHits.data(), mirrorFound.data());
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {
       out[i] = background_;
@@ -382,48 +343,29 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
     const Surface &s = surface[i];
     Color c = s.pigment * s.m->finish.ambient;
     if (s.m->lit) c += lightSum[i];
-    const uint32_t k = mirrorOf[i];
-    const TracedRay mirror{&mirrorRays[k == kNone ? 0 : k], &mirrorHits[k == kNone ? 0 : k],
-                           k != kNone && mirrorFound[k] != 0};
-    out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts,
-                          k == kNone ? nullptr : &mirror);
+    out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts);
   }
-}
-
-template <class Accel>
-double Integrator<Accel>::reflectionWeight(const Surface &s, int depth, double weight,
-                                           Vec3 &mirrorDir) const {
-  const Material &m = *s.m;
-  const Finish &f = m.finish;
-  if ((!m.reflects && !m.refracts) || depth >= kMaxDepth) return 0;
-  const double dn = dot(s.dir, s.n);
-  mirrorDir = s.dir - s.n * (2 * dn);
-  double kr = m.reflects ? f.reflection : 0;
-  if (m.refracts && f.refraction * weight >= kBailout) {
-    const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-    const double cosI = std::clamp(-dn, 0.0, 1.0);
-    if (1 - eta * eta * (1 - cosI * cosI) < 0) kr += f.refraction; // total internal reflection
-  }
-  return kr > 0 && kr * weight >= kBailout ? kr : 0;
 }
 
 template <class Accel>
 Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c, int depth,
-                                      double weight, Sampler &sampler, RayCounts &counts,
-                                      const TracedRay *reflected) const {
+                                      double weight, Sampler &sampler, RayCounts &counts) const {
   const Material &m = *s.m;
   const Finish &f = m.finish;
   if ((!m.reflects && !m.refracts) || depth >= kMaxDepth) return c;
 
   const Vec3 &n = s.n, &dir = s.dir;
-  Vec3 mirrorDir;
-  const double kr = reflectionWeight(s, depth, weight, mirrorDir);
+  double dn = dot(dir, n);
+  Vec3 mirrorDir = dir - n * (2 * dn);
+  double kr = m.reflects ? f.reflection : 0;
 
   if (m.refracts && f.refraction * weight >= kBailout) {
     double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-    double cosI = std::clamp(-dot(dir, n), 0.0, 1.0);
+    double cosI = std::clamp(-dn, 0.0, 1.0);
     double k = 1 - eta * eta * (1 - cosI * cosI);
-    if (k >= 0) { // otherwise total internal reflection: kr holds the refracted share
+    if (k < 0) {
+      kr += f.refraction; // total internal reflection: the energy follows the mirror ray
+    } else {
       Vec3 tDir = normalize(dir * eta + n * (eta * cosI - std::sqrt(k)));
       Ray refracted = spawnRay(hit, tDir);
       ++counts.refraction;
@@ -439,16 +381,9 @@ Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c,
     }
   }
 
-  if (kr > 0) {
+  if (kr > 0 && kr * weight >= kBailout) {
     ++counts.reflection;
-    if (!reflected) {
-      c += traceRay(spawnRay(hit, mirrorDir), depth + 1, weight * kr, sampler, counts) * kr;
-    } else {
-      const Color seen = reflected->found ? shade(*reflected->ray, *reflected->hit, depth + 1,
-                                                  weight * kr, sampler, counts)
-                                          : background_;
-      c += seen * kr;
-    }
+    c += traceRay(spawnRay(hit, mirrorDir), depth + 1, weight * kr, sampler, counts) * kr;
   }
   return c;
 }

@@ -243,9 +243,8 @@ TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
 }
 
 // shadeTile batches the camera hits' shadow rays light sample by light
-// sample (occludedCoherent) and their first reflected rays
-// (intersectCoherent); every colour, count and sampler draw must be what
-// shadeHit gives ray by ray: a lit floor partly shadowed by spheres
+// sample (occludedCoherent); every colour, count and sampler draw must be
+// what shadeHit gives ray by ray: a lit floor partly shadowed by spheres
 // under a point light and a jittered area light, a mirror and a glass
 // sphere (secondary rays with their own shadow rays), and rays that miss.
 TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {

@@ -182,8 +182,8 @@ TEST(KdTreeAccelerator, PacketsMatchSingleRaysBitForBit) {
                                       Transform::translate({2, 2, -2})));
   // A sphere in front of the big mesh, inside its bounds: met after it in
   // their top-level leaf, nearer than its triangles.
-  scene.entities.push_back(
-      shape(ShapeKind::Sphere, Transform::translate({0.3, 0.1, -1.2}) * Transform::scale(0.4, 0.4, 0.4)));
+  scene.entities.push_back(shape(ShapeKind::Sphere, Transform::translate({0.3, 0.1, -1.2}) *
+                                                        Transform::scale(0.4, 0.4, 0.4)));
   KdTreeAccelerator accel(scene);
   ASSERT_TRUE(accel.usesPackets());
   ASSERT_EQ(accel.meshTreeCount(), 2u);

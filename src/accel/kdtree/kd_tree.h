@@ -531,7 +531,8 @@ uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
         Lanes nearT1, farT0;
         for (int h = 0; h < 2; ++h) {
           const __m128d t0h = h ? enter.hi : enter.lo, t1h = h ? exit.hi : exit.lo;
-          const __m128d tPlane = _mm_mul_pd(_mm_sub_pd(split, h ? o.hi : o.lo), h ? inv.hi : inv.lo);
+          const __m128d oh = h ? o.hi : o.lo, invh = h ? inv.hi : inv.lo;
+          const __m128d tPlane = _mm_mul_pd(_mm_sub_pd(split, oh), invh);
           const __m128d slack = _mm_mul_pd(_mm_andnot_pd(signMask, tPlane), slackFactor);
           const __m128d tLo = _mm_sub_pd(tPlane, slack), tHi = _mm_add_pd(tPlane, slack);
           const __m128d nearNeeded = _mm_cmpge_pd(tHi, t0h);

@@ -431,7 +431,8 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
 
 void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
   if (!usePackets_) {
-    for (size_t i = 0; i < count; ++i) occluded[i] = occludedRay<KdRays::Incoherent>(rays[i]) ? 1 : 0;
+    for (size_t i = 0; i < count; ++i)
+      occluded[i] = occludedRay<KdRays::Incoherent>(rays[i]) ? 1 : 0;
     return;
   }
   for (size_t first = 0; first < count; first += kRays) {

@@ -479,6 +479,30 @@ void setAttribute(lua_State *L, void *obj, int self, int value, const Member &m)
   }
 }
 
+/// Attributes of a part of the object (an entity's shape parameters):
+/// `Part(object)` returns the C that holds the field. Values only.
+template <class T, auto Part, class C, class M> M &partMemberRef(void *obj, const Member &m) {
+  M C::*p;
+  std::memcpy(&p, m.pointer, sizeof p);
+  return Part(*static_cast<T *>(obj)).*p;
+}
+
+template <class T, auto Part, class C, class M>
+void getPartAttribute(lua_State *L, void *obj, int, const Member &m) {
+  LuaValue<M>::push(L, partMemberRef<T, Part, C, M>(obj, m));
+}
+
+template <class T, auto Part, class C, class M>
+void setPartAttribute(lua_State *L, void *obj, int, int value, const Member &m) {
+  M v = LuaValue<M>::check(L, value);
+  Validator<M> validate;
+  std::memcpy(&validate, m.extra, sizeof validate);
+  if (validate) {
+    if (const char *expected = validate(v)) throw TypeMismatch(expected, describeValue(L, value));
+  }
+  partMemberRef<T, Part, C, M>(obj, m) = std::move(v);
+}
+
 template <class T> using PropertyGet = void (*)(lua_State *, T &, int self);
 template <class T> using PropertySet = void (*)(lua_State *, T &, int self, int value);
 
@@ -548,6 +572,21 @@ public:
     } else {
       std::memcpy(m.extra, &validate, sizeof validate);
     }
+    addMemberEntry(L_, cls_, m);
+    return *this;
+  }
+
+  /// A typed attribute of the part of T that `Part` (C &(*)(T &)) returns.
+  template <auto Part, class C, class M>
+  ClassBuilder &partAttr(const char *name, M C::*field, Validator<M> validate = nullptr) {
+    static_assert(!std::is_pointer_v<M>, "object references are attributes of the object itself");
+    Member &m = cls_.members.emplace_back();
+    m.name = name;
+    m.get = &getPartAttribute<T, Part, C, M>;
+    m.set = &setPartAttribute<T, Part, C, M>;
+    static_assert(sizeof field <= sizeof m.pointer);
+    std::memcpy(m.pointer, &field, sizeof field);
+    std::memcpy(m.extra, &validate, sizeof validate);
     addMemberEntry(L_, cls_, m);
     return *this;
   }

@@ -241,7 +241,10 @@ void setIndices(lua_State *L, MeshObj &m, int, int v) {
   src.faceSizes = std::move(parsed.faceSizes);
 }
 
-template <ShapeKind Kind> void shapeDefaults(EntityObj &e) { e.kind = Kind; }
+template <class S> void shapeDefaults(EntityObj &e) { e.shape = S{}; }
+
+/// The shape parameters of an entity of class S (for partAttr).
+template <class S> S &params(EntityObj &e) { return std::get<S>(e.shape); }
 
 void shapeCtor(EntityObj &e, std::optional<Affine> t) {
   if (t) e.transform = *t;
@@ -252,27 +255,27 @@ void shapeCtor(EntityObj &e, std::optional<Affine> t) {
 void registerEntityClasses(Registry &reg) {
   // The texture attribute comes first on every entity: user value slot 1.
   reg.cls<EntityObj>("Sphere")
-      .defaults(&shapeDefaults<ShapeKind::Sphere>)
+      .defaults(&shapeDefaults<Sphere>)
       .ctor(&shapeCtor)
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform);
   reg.cls<EntityObj>("Cube")
-      .defaults(&shapeDefaults<ShapeKind::Cube>)
+      .defaults(&shapeDefaults<Cube>)
       .ctor(&shapeCtor)
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform);
   reg.cls<EntityObj>("Cylinder")
-      .defaults(&shapeDefaults<ShapeKind::Cylinder>)
+      .defaults(&shapeDefaults<Cylinder>)
       .ctor(&shapeCtor)
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform)
-      .attr("open", &EntityObj::open);
+      .partAttr<&params<Cylinder>>("open", &Cylinder::open);
   reg.cls<EntityObj>("Cone")
-      .defaults(&shapeDefaults<ShapeKind::Cone>)
+      .defaults(&shapeDefaults<Cone>)
       .ctor(&shapeCtor)
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform)
-      .attr("open", &EntityObj::open);
+      .partAttr<&params<Cone>>("open", &Cone::open);
 
   reg.cls<MeshObj>("Mesh")
       .ctor(+[](MeshObj &m, std::optional<Affine> t) {

@@ -8,17 +8,6 @@ namespace lray::lua {
 
 namespace {
 
-const char *shapeName(ShapeKind kind) {
-  switch (kind) {
-  case ShapeKind::Sphere: return "Sphere";
-  case ShapeKind::Cylinder: return "Cylinder";
-  case ShapeKind::Cone: return "Cone";
-  case ShapeKind::Cube: return "Cube";
-  case ShapeKind::Mesh: return "Mesh";
-  }
-  return "entity";
-}
-
 const char *pigmentName(Pigment::Kind kind) {
   switch (kind) {
   case Pigment::Kind::Color: return "ColorPigment";
@@ -65,9 +54,8 @@ private:
   Entity shape(const EntityObj &e) {
     Entity out;
     out.loc = ctx_.resolve(e.loc);
-    out.kind = e.kind;
-    out.worldFromObject = transform(e.transform, out.loc, shapeName(e.kind));
-    out.open = e.open;
+    out.shape = e.shape;
+    out.worldFromObject = transform(e.transform, out.loc, shapeName(e.shape));
     out.texture = texture(e.texture);
     return out;
   }
@@ -75,7 +63,7 @@ private:
   Entity mesh(const MeshObj &m) {
     Entity out;
     out.loc = ctx_.resolve(m.loc);
-    out.kind = ShapeKind::Mesh;
+    out.shape = Mesh{};
     out.worldFromObject = transform(m.transform, out.loc, "Mesh");
     out.smooth = m.smooth;
     out.texture = texture(m.texture);

@@ -55,14 +55,14 @@ struct TextureObj {
   PigmentObj *pigment = nullptr; ///< null = white ColorPigment
 };
 
-/// Sphere, Cylinder, Cone, Cube. Kept small (one per object in big scenes).
+/// Every analytic shape class (geometry/shapes/); `shape` says which, with
+/// its parameters. Kept small (one per object in big scenes).
 struct EntityObj {
   static constexpr const char *kLuaName = "an entity (Sphere, Cylinder, Cone, Cube or Mesh)";
   Affine transform;                ///< worldFromObject
   TextureObj *texture = nullptr;   ///< null = Texture()
   ScriptLoc loc;
-  ShapeKind kind = ShapeKind::Sphere;
-  bool open = false;
+  Shape shape;
 };
 
 /// Geometry shared by a mesh and its copies; the built MeshData is cached

@@ -269,7 +269,7 @@ int run(int w, int hgt) {
   auto terrain = makeTerrain(708);
   Scene meshScene;
   Entity e;
-  e.kind = ShapeKind::Mesh;
+  e.shape = makeShape(ShapeKind::Mesh);
   e.mesh = terrain;
   e.smooth = true;
   meshScene.entities.push_back(e);
@@ -289,7 +289,7 @@ int run(int w, int hgt) {
   std::uniform_real_distribution<double> u(-1, 1), s(0.2, 0.8);
   for (int i = 0; i < 100000; ++i) {
     Entity x;
-    x.kind = static_cast<ShapeKind>(i % 4);
+    x.shape = makeShape(static_cast<ShapeKind>(i % 4));
     x.worldFromObject = Transform::translate(Vec3(u(rng), u(rng), u(rng)) * 50) *
                         Transform::rotate({u(rng), u(rng), 1}, 180 * u(rng)) *
                         Transform::scale(s(rng), s(rng), s(rng));
@@ -308,7 +308,7 @@ int run(int w, int hgt) {
     Scene sc;
     for (int i = 0; i < copies; ++i) {
       Entity c;
-      c.kind = ShapeKind::Mesh;
+      c.shape = makeShape(ShapeKind::Mesh);
       c.mesh = small;
       c.worldFromObject = Transform::translate({3.0 * (i % 40), 0, 3.0 * (i / 40)});
       sc.entities.push_back(c);

@@ -130,7 +130,7 @@ Scene makeBumpySphereScene(size_t triangles) {
 
   Scene scene;
   Entity e;
-  e.kind = ShapeKind::Mesh;
+  e.shape = makeShape(ShapeKind::Mesh);
   e.mesh = mesh;
   scene.entities.push_back(e);
   scene.textures.emplace_back();

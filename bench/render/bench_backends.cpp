@@ -55,7 +55,7 @@ Scene sphereScene(size_t n) {
   double side = 10, radius = 0.6 * side / std::cbrt(static_cast<double>(n));
   for (size_t i = 0; i < n; ++i) {
     Entity e;
-    e.kind = ShapeKind::Sphere;
+    e.shape = Sphere{};
     Vec3 c{(rng.next() - 0.5) * side, (rng.next() - 0.5) * side, (rng.next() - 0.5) * side};
     e.worldFromObject = Transform::translate(c) * Transform::scale(radius, radius, radius);
     s.entities.push_back(e);

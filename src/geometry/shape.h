@@ -13,8 +13,13 @@
 
 namespace lray {
 
-/// Tight world-space bounds of an analytic entity (Sphere, Cylinder, Cone, Cube).
+/// Tight world-space bounds of an analytic entity (every shape but Mesh;
+/// infinite for the unbounded ones).
 Bounds3 shapeWorldBounds(const Entity &entity);
+
+/// False for shapes without finite bounds (Plane): the backends keep those
+/// out of their trees and test them on every ray (accel/unbounded_shapes.h).
+bool shapeBounded(const Entity &entity);
 
 /// Closest intersection of a world-space ray with an analytic entity, with t
 /// in (ray.tMin, ray.tMax). On success fills every field of `hit` (entity =

@@ -1,8 +1,8 @@
 list(APPEND LRAY_CORE_SOURCES
-  src/geometry/sphere.cpp
-  src/geometry/cylinder.cpp
-  src/geometry/cone.cpp
-  src/geometry/cube.cpp
+  src/geometry/shapes/sphere.cpp
+  src/geometry/shapes/cylinder.cpp
+  src/geometry/shapes/cone.cpp
+  src/geometry/shapes/cube.cpp
   src/geometry/shape.cpp
   src/geometry/triangle_hit.cpp
   src/geometry/triangle_hits.cpp

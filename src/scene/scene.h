@@ -3,6 +3,7 @@
 // only these types and never touches Lua.
 #pragma once
 
+#include "geometry/shapes/shape_list.h"
 #include "math/color.h"
 #include "math/transform.h"
 #include "math/vec3.h"
@@ -88,18 +89,19 @@ struct Texture {
   uint32_t pigment = 0;
 };
 
-enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh };
-
-/// An entity placed in the world (SPEC 5). For meshes, `mesh` holds the
-/// (possibly shared) geometry and `worldFromObject` the mesh transform.
+/// An entity placed in the world (SPEC 5): a shape of geometry/shapes/ with
+/// its parameters. For meshes, `mesh` holds the (possibly shared) geometry
+/// and `worldFromObject` the mesh transform.
 struct Entity {
-  ShapeKind kind = ShapeKind::Sphere;
+  Shape shape;
   Transform worldFromObject;
-  bool open = false; ///< Cylinder/Cone: no caps (ext)
   bool smooth = false; ///< Mesh: interpolate vertex normals
   uint32_t texture = 0; ///< index into Scene::textures
   MeshDataPtr mesh;     ///< Mesh only
   SourceLocation loc;
+
+  ShapeKind kind() const { return static_cast<ShapeKind>(shape.index()); }
+  bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
 };
 
 /// A rows x cols light (SPEC 6): a 1x1 square in its local xz-plane.

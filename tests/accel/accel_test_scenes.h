@@ -72,14 +72,14 @@ inline std::shared_ptr<MeshData> makeJitteredSphere(int subdivisions, double jit
 
 inline Entity shapeEntity(ShapeKind kind, const Transform &xf) {
   Entity e;
-  e.kind = kind;
+  e.shape = makeShape(kind);
   e.worldFromObject = xf;
   return e;
 }
 
 inline Entity meshEntity(MeshDataPtr mesh, const Transform &xf) {
   Entity e;
-  e.kind = ShapeKind::Mesh;
+  e.shape = makeShape(ShapeKind::Mesh);
   e.mesh = std::move(mesh);
   e.worldFromObject = xf;
   return e;
@@ -115,7 +115,7 @@ inline std::pair<int, double> bruteForce(const Scene &scene, const Ray &ray) {
     const Entity &e = scene.entities[i];
     Ray r = ray;
     r.tMax = bestT;
-    if (e.kind == ShapeKind::Mesh) {
+    if (e.kind() == ShapeKind::Mesh) {
       Ray objectRay = Transform::fromMatrix(e.worldFromObject.inverseMatrix()).applyRay(r);
       for (uint32_t k = 0; k < e.mesh->triangles.size(); ++k) {
         double t;

@@ -2,6 +2,7 @@
 // closest entity, t and hit record from Embree and from the kd-tree, and
 // both agree with a brute-force double-precision reference.
 #include "accel/accelerator.h"
+#include "shape_params.h"
 
 #include "accel_test_scenes.h"
 #include "geometry/spawn.h"
@@ -29,7 +30,7 @@ Scene parityScene() {
                    Transform::scale(sc(rng), sc(rng), sc(rng));
     if (i % 5 == 4) s.entities.push_back(meshEntity(ball, xf));
     else s.entities.push_back(shapeEntity(static_cast<ShapeKind>(i % 4), xf));
-    s.entities.back().open = i % 7 == 0;
+    setOpen(s.entities.back(), i % 7 == 0);
   }
   s.textures.push_back({});
   return s;
@@ -78,7 +79,7 @@ TEST(BackendPair, EmbreeAndKdTreeReturnTheSameHits) {
     ASSERT_EQ(ha, hb) << i;
     if (!ha) continue;
     ASSERT_EQ(a.entity, b.entity) << i;
-    if (s.entities[a.entity].kind != ShapeKind::Mesh) {
+    if (s.entities[a.entity].kind() != ShapeKind::Mesh) {
       // Same shape code on the same double ray: bit-identical.
       ++analytic;
       EXPECT_EQ(a.t, b.t);

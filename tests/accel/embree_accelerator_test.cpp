@@ -112,7 +112,7 @@ TEST(EmbreeAccelerator, MatchesBruteForceOnMixedScene) {
     ASSERT_EQ(h.entity, static_cast<uint32_t>(entity)) << i;
     ASSERT_NEAR(h.t, t, 1e-5 * t) << i;
     expectSameHit(hits[i], h);
-    if (s.entities[entity].kind == ShapeKind::Mesh) {
+    if (s.entities[entity].kind() == ShapeKind::Mesh) {
       ++meshHits;
       // Instance: the object point is in the shared mesh's own space.
       Vec3 back = s.entities[entity].worldFromObject.applyPoint(h.pObject);

@@ -256,11 +256,11 @@ TEST_F(ObjectModelTest, SceneMethodsAcceptEntitiesMeshesAndLights) {
             "");
   Scene scene = convertGlobal("s");
   ASSERT_EQ(scene.entities.size(), 5u);
-  EXPECT_EQ(scene.entities[0].kind, ShapeKind::Sphere);
-  EXPECT_EQ(scene.entities[1].kind, ShapeKind::Mesh);
-  EXPECT_EQ(scene.entities[2].kind, ShapeKind::Cube);
-  EXPECT_EQ(scene.entities[3].kind, ShapeKind::Cone);
-  EXPECT_EQ(scene.entities[4].kind, ShapeKind::Cylinder);
+  EXPECT_EQ(scene.entities[0].kind(), ShapeKind::Sphere);
+  EXPECT_EQ(scene.entities[1].kind(), ShapeKind::Mesh);
+  EXPECT_EQ(scene.entities[2].kind(), ShapeKind::Cube);
+  EXPECT_EQ(scene.entities[3].kind(), ShapeKind::Cone);
+  EXPECT_EQ(scene.entities[4].kind(), ShapeKind::Cylinder);
   EXPECT_EQ(scene.lights.size(), 3u);
 }
 

@@ -1,5 +1,6 @@
 // Conversion of the Lua-side objects into the plain scene model.
 #include "lua_fixture.h"
+#include "shape_params.h"
 
 namespace lray::lua {
 namespace {
@@ -46,16 +47,16 @@ TEST_F(SceneConverterTest, EntitiesKeepKindTransformFlagsAndLocation) {
             "");
   Scene scene = convertGlobal("s");
   ASSERT_EQ(scene.entities.size(), 4u);
-  EXPECT_EQ(scene.entities[0].kind, ShapeKind::Sphere);
+  EXPECT_EQ(scene.entities[0].kind(), ShapeKind::Sphere);
   EXPECT_EQ(scene.entities[0].loc.str(), "test.lua:2");
   EXPECT_EQ(scene.entities[0].worldFromObject.applyPoint({0, 0, 0}), Vec3(1, 0, 0));
   EXPECT_EQ(scene.entities[0].worldFromObject.inverse().applyPoint({1, 0, 0}), Vec3(0, 0, 0));
-  EXPECT_EQ(scene.entities[1].kind, ShapeKind::Cylinder);
-  EXPECT_TRUE(scene.entities[1].open);
+  EXPECT_EQ(scene.entities[1].kind(), ShapeKind::Cylinder);
+  EXPECT_TRUE(isOpen(scene.entities[1]));
   EXPECT_EQ(scene.entities[1].worldFromObject.applyPoint({1, 1, 1}), Vec3(2, 2, 2));
-  EXPECT_EQ(scene.entities[2].kind, ShapeKind::Cone);
-  EXPECT_FALSE(scene.entities[2].open);
-  EXPECT_EQ(scene.entities[3].kind, ShapeKind::Cube);
+  EXPECT_EQ(scene.entities[2].kind(), ShapeKind::Cone);
+  EXPECT_FALSE(isOpen(scene.entities[2]));
+  EXPECT_EQ(scene.entities[3].kind(), ShapeKind::Cube);
   EXPECT_EQ(scene.entities[3].loc.str(), "test.lua:5"); // constructed, not added
 }
 

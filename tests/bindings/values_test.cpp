@@ -126,7 +126,7 @@ TEST_F(PreludeTest, FloorIsA200SquareWithUvsToPlusMinus25) {
   Scene scene = convertGlobal("s");
   ASSERT_EQ(scene.entities.size(), 1u);
   const Entity &floor = scene.entities[0];
-  EXPECT_EQ(floor.kind, ShapeKind::Mesh);
+  EXPECT_EQ(floor.kind(), ShapeKind::Mesh);
   EXPECT_EQ(floor.loc.str(), "test.lua:1"); // the caller's line, not the prelude's
   const MeshData &mesh = *floor.mesh;
   ASSERT_EQ(mesh.positions.size(), 4u);

@@ -141,7 +141,7 @@ void checkScene(const lray::Scene &s) {
   check(finite(s.camera.worldFromCamera) && std::isfinite(s.camera.fov) && std::isfinite(s.camera.aspect));
   for (const lray::Entity &e : s.entities) {
     check(finite(e.worldFromObject));
-    if (e.kind == lray::ShapeKind::Mesh) {
+    if (e.kind() == lray::ShapeKind::Mesh) {
       check(e.mesh != nullptr);
       for (const lray::Vec3f &p : e.mesh->positions)
         check(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));

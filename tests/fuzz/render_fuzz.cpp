@@ -5,6 +5,7 @@
 // is rendered at 4x4 with both backends. A crash, a sanitizer report or a
 // non-finite sample (RayCounts::nonFinite > 0) is a bug.
 #include "accel/accelerator.h"
+#include "shape_params.h"
 #include "render/renderer.h"
 #include "scene/mesh_builder.h"
 #include "shading/image_cache.h"
@@ -96,12 +97,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   int entities = in.ConsumeIntegralInRange(1, 6);
   for (int i = 0; i < entities; ++i) {
     lray::Entity e;
-    e.kind = static_cast<lray::ShapeKind>(in.ConsumeIntegralInRange(0, 4));
+    e.shape = makeShape(static_cast<lray::ShapeKind>(in.ConsumeIntegralInRange(0, 4)));
     e.worldFromObject = transform(in);
-    e.open = in.ConsumeBool();
+    setOpen(e, in.ConsumeBool());
     e.smooth = in.ConsumeBool();
     e.texture = in.ConsumeIntegralInRange<uint32_t>(0, static_cast<uint32_t>(textures));
-    if (e.kind == lray::ShapeKind::Mesh) {
+    if (e.kind() == lray::ShapeKind::Mesh) {
       try {
         e.mesh = mesh(in);
       } catch (const lray::SceneError &) {

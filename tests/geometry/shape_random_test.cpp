@@ -2,6 +2,7 @@
 // random affine transforms, checked against an independent long double
 // reference intersection (same object-space definition, naive formulas).
 #include "geometry/shape.h"
+#include "shape_params.h"
 
 #include <gtest/gtest.h>
 
@@ -77,10 +78,10 @@ Reference reference(const Entity &e, const Ray &world) {
   Reference r;
   // Work from the ray's closest approach to the shape's centre, so that
   // distant origins do not cost the reference its own precision.
-  LD cy = e.kind == ShapeKind::Cylinder || e.kind == ShapeKind::Cone ? 0.5L : 0.0L;
+  LD cy = e.kind() == ShapeKind::Cylinder || e.kind() == ShapeKind::Cone ? 0.5L : 0.0L;
   r.shift = (-o.x * d.x + (cy - o.y) * d.y - o.z * d.z) / (d.x * d.x + d.y * d.y + d.z * d.z);
   o = {o.x + r.shift * d.x, o.y + r.shift * d.y, o.z + r.shift * d.z};
-  switch (e.kind) {
+  switch (e.kind()) {
   case ShapeKind::Sphere: {
     LD a = d.x * d.x + d.y * d.y + d.z * d.z, h = o.x * d.x + o.y * d.y + o.z * d.z;
     LD c = o.x * o.x + o.y * o.y + o.z * o.z - 1;
@@ -96,7 +97,7 @@ Reference reference(const Entity &e, const Ray &world) {
   case ShapeKind::Cylinder: {
     LD a = d.x * d.x + d.z * d.z, h = o.x * d.x + o.z * d.z, c = o.x * o.x + o.z * o.z - 1;
     quadratic(r, a, h, c, o, d, false);
-    if (!e.open) {
+    if (!isOpen(e)) {
       cap(r, 0, o, d);
       cap(r, 1, o, d);
     }
@@ -107,7 +108,7 @@ Reference reference(const Entity &e, const Ray &world) {
     LD a = d.x * d.x + d.z * d.z - d.y * d.y, h = o.x * d.x + o.z * d.z + k * d.y;
     LD c = o.x * o.x + o.z * o.z - k * k;
     quadratic(r, a, h, c, o, d, true);
-    if (!e.open) cap(r, 0, o, d);
+    if (!isOpen(e)) cap(r, 0, o, d);
     break;
   }
   case ShapeKind::Cube: {
@@ -159,8 +160,8 @@ TEST_P(ShapeRandom, AgreesWithLongDoubleReference) {
   int checked = 0, hits = 0, insideStarts = 0;
   for (int ei = 0; ei < kEntities; ++ei) {
     Entity e;
-    e.kind = GetParam().kind;
-    e.open = GetParam().open;
+    e.shape = makeShape(GetParam().kind);
+    setOpen(e, GetParam().open);
     e.worldFromObject = randomTransform(rng);
     Bounds3 b = shapeWorldBounds(e);
     Vec3 c = b.center(), ext = b.diagonal() * 0.6;
@@ -210,8 +211,8 @@ TEST_P(ShapeRandom, DistantOriginsKeepThePointAccurate) {
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(-1, 1);
   Entity e;
-  e.kind = GetParam().kind;
-  e.open = GetParam().open;
+  e.shape = makeShape(GetParam().kind);
+  setOpen(e, GetParam().open);
   const double dist = 1e6;
   int checked = 0;
   for (int i = 0; i < 3000; ++i) {

@@ -1,6 +1,7 @@
 // Tests for src/geometry/shape: known hits, misses, normals and uvs of the
 // analytic shapes (SPEC 5), rays from inside, caps, apex, edges, bounds.
 #include "geometry/shape.h"
+#include "shape_params.h"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +14,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 Entity makeEntity(ShapeKind kind, const Transform &xf = Transform(), bool open = false) {
   Entity e;
-  e.kind = kind;
+  e.shape = makeShape(kind);
   e.worldFromObject = xf;
-  e.open = open;
+  setOpen(e, open);
   return e;
 }
 

@@ -28,7 +28,7 @@ std::shared_ptr<MeshData> oneTriangle() {
 
 Entity meshEntity(MeshDataPtr mesh, const Transform &xf, bool smooth = false) {
   Entity e;
-  e.kind = ShapeKind::Mesh;
+  e.shape = makeShape(ShapeKind::Mesh);
   e.mesh = std::move(mesh);
   e.worldFromObject = xf;
   e.smooth = smooth;
@@ -140,7 +140,7 @@ TEST(FloatFrameOrigin, TheEyeRoundedToFloatOnlyFarFromTheOrigin) {
 
 TEST(FloatFrameOrigin, TheSceneBoxPointNearestTheEye) {
   Entity sphere;
-  sphere.kind = ShapeKind::Sphere;
+  sphere.shape = makeShape(ShapeKind::Sphere);
   Scene scene;
   scene.entities.push_back(sphere);
   // A telephoto view of a unit sphere at the origin from 5000 away: the

@@ -20,7 +20,7 @@ using kdtest::Rng;
 
 Entity shape(ShapeKind kind, const Transform &worldFromObject) {
   Entity e;
-  e.kind = kind;
+  e.shape = makeShape(kind);
   e.worldFromObject = worldFromObject;
   return e;
 }
@@ -39,7 +39,7 @@ bool bruteForce(const Scene &scene, const Ray &ray, Hit &hit) {
     const Entity &e = scene.entities[i];
     Ray bounded = ray;
     bounded.tMax = tMax;
-    if (e.kind != ShapeKind::Mesh) {
+    if (e.kind() != ShapeKind::Mesh) {
       Hit h;
       if (intersectShape(e, i, bounded, h)) {
         hit = h;

@@ -44,7 +44,7 @@ public:
     Hit hit;
     for (uint32_t i = 0; i < scene_.entities.size(); ++i) {
       const Entity &e = scene_.entities[i];
-      if (shared_ && e.kind != ShapeKind::Mesh) {
+      if (shared_ && e.kind() != ShapeKind::Mesh) {
         if (occludedShape(e, ray)) return true;
       } else if (intersectEntity(i, ray, hit)) {
         return true;
@@ -70,8 +70,8 @@ private:
     double u = 0, v = 0;
     uint32_t triangle = 0;
     bool ok = false;
-    if (shared_ && e.kind != ShapeKind::Mesh) return intersectShape(e, index, worldRay, hit);
-    switch (e.kind) {
+    if (shared_ && e.kind() != ShapeKind::Mesh) return intersectShape(e, index, worldRay, hit);
+    switch (e.kind()) {
     case ShapeKind::Sphere: ok = sphere(r, t, nObject, u, v); break;
     case ShapeKind::Cube: ok = cube(r, t, nObject); break;
     case ShapeKind::Mesh: ok = mesh(*e.mesh, r, t, nObject, u, v, triangle); break;

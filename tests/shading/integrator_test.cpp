@@ -53,7 +53,7 @@ struct SceneBuilder {
   }
   void add(ShapeKind kind, const Transform &t, uint32_t texture) {
     Entity e;
-    e.kind = kind;
+    e.shape = makeShape(kind);
     e.worldFromObject = t;
     e.texture = texture;
     scene.entities.push_back(e);
@@ -65,7 +65,7 @@ struct SceneBuilder {
     MeshTriangle a{{0, 2, 1}}, b{{0, 3, 2}};
     mesh->triangles = {a, b};
     Entity e;
-    e.kind = ShapeKind::Mesh;
+    e.shape = makeShape(ShapeKind::Mesh);
     e.worldFromObject = t;
     e.texture = texture;
     e.mesh = mesh;

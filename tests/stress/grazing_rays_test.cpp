@@ -5,6 +5,7 @@
 // against brute force), zero-area and sliver triangles and duplicated
 // vertices (no hit on a zero-area triangle, never a non-finite hit record).
 #include "scene/mesh_builder.h"
+#include "shape_params.h"
 #include "stress/stress_scenes.h"
 
 #include <gtest/gtest.h>
@@ -23,7 +24,7 @@ protected:
   void build(ShapeKind kind, bool open = false) {
     scene_ = Scene();
     Entity e = shapeEntity(kind, xf_);
-    e.open = open;
+    setOpen(e, open);
     scene_.entities.push_back(e);
     addDefaultMaterials(scene_);
     accel_ = makeAccelerator(GetParam(), scene_);

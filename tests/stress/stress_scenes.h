@@ -128,7 +128,7 @@ inline StressScene makeStressScene(double offset, double scale, bool withPlates 
   for (size_t i = 0; i < unit.size(); ++i) {
     const Entity &e = unit[i];
     Bounds3 b;
-    if (e.kind == ShapeKind::Mesh) {
+    if (e.kind() == ShapeKind::Mesh) {
       for (const Vec3f &p : e.mesh->positions) b.extend(e.worldFromObject.applyPoint(toVec3(p)));
     } else {
       b = shapeWorldBounds(e);

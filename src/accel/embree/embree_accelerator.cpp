@@ -249,13 +249,13 @@ void EmbreeAccelerator::build() {
 
   std::unordered_map<const MeshData *, size_t> uses;
   for (const Entity &e : entities)
-    if (e.kind == ShapeKind::Mesh && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
+    if (e.kind() == ShapeKind::Mesh && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
 
   std::unordered_map<const MeshData *, RTCScene> meshScene;
   for (size_t i = 0; i < entities.size(); ++i) {
     const Entity &e = entities[i];
     auto id = static_cast<unsigned>(i);
-    if (e.kind != ShapeKind::Mesh) {
+    if (e.kind() != ShapeKind::Mesh) {
       shapeRefs_.push_back({&e, id});
       continue;
     }

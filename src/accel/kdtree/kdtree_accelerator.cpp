@@ -118,7 +118,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
     const Entity &e = scene.entities[i];
     Instance inst;
     inst.entity = i;
-    if (e.kind == ShapeKind::Mesh) {
+    if (e.kind() == ShapeKind::Mesh) {
       if (!e.mesh || e.mesh->triangleIndices.empty()) continue;
       auto [it, added] =
           treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));

@@ -1,12 +1,22 @@
 // Pipeline: geometry. The cone in object space (SPEC 5 Cone): base radius 1
 // at y = 0, apex at (0, 1, 0), base capped unless `open`.
-#include "geometry/object_shapes.h"
+#include "geometry/shapes/cone.h"
+
+#include "geometry/affine.h"
+#include "geometry/shapes/disc_bounds.h"
 
 #include <algorithm>
 
 namespace lray {
 
-bool intersectCone(const Ray &ray, bool open, ObjectHit &hit) {
+Bounds3 Cone::worldBounds(const Mat4 &mat) const {
+  // The convex hull of the base disc and the apex.
+  Bounds3 b = discBounds(mat, 0);
+  b.extend(affinePoint(mat, {0, 1, 0}));
+  return b;
+}
+
+bool Cone::intersect(const Ray &ray, ObjectHit &hit) const {
   const Vec3 &o = ray.o, &d = ray.d;
   bool found = false;
   double best = ray.tMax;
@@ -76,7 +86,7 @@ bool intersectCone(const Ray &ray, bool open, ObjectHit &hit) {
   return found;
 }
 
-ObjectSurface coneSurface(const Ray &ray, const ObjectHit &hit) {
+ObjectSurface Cone::surface(const Ray &ray, const ObjectHit &hit) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   if (hit.part == 0) {
@@ -99,6 +109,14 @@ ObjectSurface coneSurface(const Ray &ray, const ObjectHit &hit) {
   }
   s.p = p;
   return s;
+}
+
+std::optional<Wide> Cone::refine(const WideRay &ray, Wide s, Wide shift, int part) const {
+  if (part != 0) return planeRefine(ray.o.y, ray.d.y, 0, s);
+  return newtonRefine(ray, s, shift, [](const WideVec &p, const WideVec &d) {
+    Wide k = 1 - p.y; // x^2 + z^2 = (1 - y)^2
+    return WideSlope{p.x * p.x + p.z * p.z - k * k, 2 * (p.x * d.x + p.z * d.z + k * d.y)};
+  });
 }
 
 } // namespace lray

@@ -1,9 +1,20 @@
 // Pipeline: geometry. The unit sphere in object space (SPEC 5 Sphere).
-#include "geometry/object_shapes.h"
+#include "geometry/shapes/sphere.h"
 
 namespace lray {
 
-bool intersectSphere(const Ray &ray, ObjectHit &hit) {
+Bounds3 Sphere::worldBounds(const Mat4 &mat) const {
+  // Exact box of an ellipsoid: half-extent along axis i is the norm of
+  // row i of the linear part (the support function of the unit ball).
+  const auto &m = mat.m;
+  Vec3 c{m[0][3], m[1][3], m[2][3]};
+  Vec3 e{std::sqrt(m[0][0] * m[0][0] + m[0][1] * m[0][1] + m[0][2] * m[0][2]),
+         std::sqrt(m[1][0] * m[1][0] + m[1][1] * m[1][1] + m[1][2] * m[1][2]),
+         std::sqrt(m[2][0] * m[2][0] + m[2][1] * m[2][1] + m[2][2] * m[2][2])};
+  return {c - e, c + e};
+}
+
+bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
   const Vec3 &o = ray.o, &d = ray.d;
   double a = dot(d, d);
   if (!(a > 0)) return false;
@@ -28,7 +39,7 @@ bool intersectSphere(const Ray &ray, ObjectHit &hit) {
   return true;
 }
 
-ObjectSurface sphereSurface(const Ray &ray, const ObjectHit &hit) {
+ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   double len = length(p);
@@ -40,6 +51,13 @@ ObjectSurface sphereSurface(const Ray &ray, const ObjectHit &hit) {
   s.u = (std::atan2(p.z, p.x) + kShapePi) / (2 * kShapePi);
   s.v = (p.y + 1) / 2;
   return s;
+}
+
+std::optional<Wide> Sphere::refine(const WideRay &ray, Wide s, Wide shift, int) const {
+  return newtonRefine(ray, s, shift, [](const WideVec &p, const WideVec &d) {
+    return WideSlope{p.x * p.x + p.y * p.y + p.z * p.z - 1,
+                     2 * (p.x * d.x + p.y * d.y + p.z * d.z)};
+  });
 }
 
 } // namespace lray

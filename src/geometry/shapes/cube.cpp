@@ -7,14 +7,23 @@
 //   -z: u = x + 0.5, v = y + 0.5     +z: u = 0.5 - x, v = y + 0.5
 //   +x: u = z + 0.5, v = y + 0.5     -x: u = 0.5 - z, v = y + 0.5
 //   +y: u = x + 0.5, v = z + 0.5     -y: u = 0.5 - x, v = z + 0.5
-#include "geometry/object_shapes.h"
+#include "geometry/shapes/cube.h"
+
+#include "geometry/affine.h"
 
 #include <algorithm>
 #include <limits>
 
 namespace lray {
 
-bool intersectCube(const Ray &ray, ObjectHit &hit) {
+Bounds3 Cube::worldBounds(const Mat4 &mat) const {
+  Bounds3 b;
+  for (int i = 0; i < 8; ++i)
+    b.extend(affinePoint(mat, {i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5}));
+  return b;
+}
+
+bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
   double tNear = -std::numeric_limits<double>::infinity();
   double tFar = std::numeric_limits<double>::infinity();
   int nearPart = -1, farPart = -1;
@@ -54,7 +63,7 @@ bool intersectCube(const Ray &ray, ObjectHit &hit) {
   return false;
 }
 
-ObjectSurface cubeSurface(const Ray &ray, const ObjectHit &hit) {
+ObjectSurface Cube::surface(const Ray &ray, const ObjectHit &hit) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   int axis = hit.part / 2;
@@ -73,6 +82,12 @@ ObjectSurface cubeSurface(const Ray &ray, const ObjectHit &hit) {
   default: s.u = 0.5 - p.x; s.v = p.y + 0.5; break; // +z
   }
   return s;
+}
+
+std::optional<Wide> Cube::refine(const WideRay &ray, Wide s, Wide, int part) const {
+  const Wide oc[3] = {ray.o.x, ray.o.y, ray.o.z}, dc[3] = {ray.d.x, ray.d.y, ray.d.z};
+  int axis = part / 2;
+  return planeRefine(oc[axis], dc[axis], (part & 1) ? Wide(0.5) : Wide(-0.5), s);
 }
 
 } // namespace lray

@@ -1,6 +1,8 @@
 // Pipeline: geometry. The capped cylinder in object space (SPEC 5
 // Cylinder): radius 1 around +y from y = 0 to y = 1; `open` drops the caps.
-#include "geometry/object_shapes.h"
+#include "geometry/shapes/cylinder.h"
+
+#include "geometry/shapes/disc_bounds.h"
 
 #include <algorithm>
 
@@ -21,7 +23,14 @@ bool intersectCap(const Ray &ray, double planeY, double &t) {
 
 } // namespace
 
-bool intersectCylinder(const Ray &ray, bool open, ObjectHit &hit) {
+Bounds3 Cylinder::worldBounds(const Mat4 &mat) const {
+  // The convex hull of the two end discs.
+  Bounds3 b = discBounds(mat, 0);
+  b.extend(discBounds(mat, 1));
+  return b;
+}
+
+bool Cylinder::intersect(const Ray &ray, ObjectHit &hit) const {
   const Vec3 &o = ray.o, &d = ray.d;
   bool found = false;
   double best = ray.tMax;
@@ -62,7 +71,7 @@ bool intersectCylinder(const Ray &ray, bool open, ObjectHit &hit) {
   return found;
 }
 
-ObjectSurface cylinderSurface(const Ray &ray, const ObjectHit &hit) {
+ObjectSurface Cylinder::surface(const Ray &ray, const ObjectHit &hit) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   if (hit.part == 0) {
@@ -83,6 +92,13 @@ ObjectSurface cylinderSurface(const Ray &ray, const ObjectHit &hit) {
   }
   s.p = p;
   return s;
+}
+
+std::optional<Wide> Cylinder::refine(const WideRay &ray, Wide s, Wide shift, int part) const {
+  if (part != 0) return planeRefine(ray.o.y, ray.d.y, part == 1 ? 0 : 1, s);
+  return newtonRefine(ray, s, shift, [](const WideVec &p, const WideVec &d) {
+    return WideSlope{p.x * p.x + p.z * p.z - 1, 2 * (p.x * d.x + p.z * d.z)};
+  });
 }
 
 } // namespace lray

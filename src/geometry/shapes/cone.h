@@ -1,0 +1,28 @@
+// Pipeline: geometry. Cone (SPEC 5): base radius 1 at y = 0, apex at
+// (0, 1, 0) in object space, base capped unless `open`. Parts: 0 side
+// (u = turn fraction from +x towards +z, v = y), 1 base cap (u = (x + 1) / 2,
+// v = (z + 1) / 2).
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/shapes/object_space.h"
+#include "math/transform.h"
+
+namespace lray {
+
+struct Cone {
+  static constexpr const char *kName = "Cone";
+  static constexpr bool kBounded = true;
+
+  bool open = false; ///< no base cap (ext)
+
+  Bounds3 worldBounds(const Mat4 &worldFromObject) const;
+  double originShift(const Ray &ray) const {
+    return closestApproachShift(ray, {0, 0.5, 0}, kFarOrigin);
+  }
+  bool intersect(const Ray &ray, ObjectHit &hit) const;
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
+};
+
+} // namespace lray

@@ -1,0 +1,28 @@
+// Pipeline: geometry. Cylinder (SPEC 5): radius 1 around +y from y = 0 to
+// y = 1 in object space, capped unless `open`. Parts: 0 side (u = turn
+// fraction from +x towards +z, v = y), 1 bottom cap (y = 0), 2 top cap
+// (y = 1); caps have u = (x + 1) / 2, v = (z + 1) / 2.
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/shapes/object_space.h"
+#include "math/transform.h"
+
+namespace lray {
+
+struct Cylinder {
+  static constexpr const char *kName = "Cylinder";
+  static constexpr bool kBounded = true;
+
+  bool open = false; ///< no caps (ext)
+
+  Bounds3 worldBounds(const Mat4 &worldFromObject) const;
+  double originShift(const Ray &ray) const {
+    return closestApproachShift(ray, {0, 0.5, 0}, kFarOrigin);
+  }
+  bool intersect(const Ray &ray, ObjectHit &hit) const;
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
+};
+
+} // namespace lray

@@ -1,0 +1,24 @@
+// Pipeline: geometry. Sphere (SPEC 5): the unit sphere at the origin of its
+// object space. One part (0). uv: u = (atan2(z, x) + pi) / (2 pi),
+// v = (y + 1) / 2.
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/shapes/object_space.h"
+#include "math/transform.h"
+
+namespace lray {
+
+struct Sphere {
+  static constexpr const char *kName = "Sphere";
+  static constexpr bool kBounded = true;
+
+  /// Tight world box of the sphere placed by `worldFromObject` (unpadded).
+  Bounds3 worldBounds(const Mat4 &worldFromObject) const;
+  double originShift(const Ray &ray) const { return closestApproachShift(ray, {}, kFarOrigin); }
+  bool intersect(const Ray &ray, ObjectHit &hit) const;
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
+};
+
+} // namespace lray

@@ -366,7 +366,7 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
   // (triangle_hits.cpp), groups no longer split at packet ends. On
   // bench_embree's 1M-triangle mesh this runs at 81-82 % of raw Embree's
   // packets, where filling each packet two traces after its own, in the
-  // same loop, ran at 79 % (bench/README.md). Analytic hits are written by
+  // same loop, ran at 79 % (bench/HISTORY.md). Analytic hits are written by
   // their callbacks during the trace.
   constexpr size_t kChunk = 32 * 8;
   TriangleHitQuery queries[kChunk];

@@ -294,7 +294,7 @@ template <bool AnyHit, class LeafTest>
   // branch; empty leaves are popped. On bench_kd_rays (bumpy sphere of
   // 10^4-10^6 triangles) it took secondary rays 13-18 % less time than the
   // general loop, shadow rays to one light (neighbours in 8x8 blocks) 10 %
-  // less at 10^6 but up to 5 % more at 10^4 (bench/README.md).
+  // less at 10^6 but up to 5 % more at 10^4 (bench/HISTORY.md).
   Todo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0;
@@ -337,7 +337,7 @@ template <bool AnyHit, class LeafTest>
       // the next node's load then starts before this step's arithmetic is
       // done. (Selects measured 6-36 % slower; passing over empty near
       // children here instead of popping them, 3-14 % slower at 10^5-10^6:
-      // bench/README.md.) Going far, t0 stays:
+      // bench/HISTORY.md.) Going far, t0 stays:
       // the plane lies before it.
       if (farOnly) {
         nodeIndex = farChild;

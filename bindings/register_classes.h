@@ -8,7 +8,7 @@ namespace lray::lua {
 
 void registerValueClasses(Registry &reg);   ///< Vector, Color, Transform and its factories
 void registerTextureClasses(Registry &reg); ///< Texture, Finish, pigments, texture maps
-void registerEntityClasses(Registry &reg);  ///< Sphere, Cylinder, Cone, Cube, Mesh, mesh_from_obj
+void registerEntityClasses(Registry &reg);  ///< the shapes, Mesh, mesh_from_obj
 void registerSceneClasses(Registry &reg);   ///< SceneInfo, Scene, Perspective, Light
 
 /// All of the above, in dependency order; the state's BindingContext must be attached.

@@ -276,6 +276,11 @@ void registerEntityClasses(Registry &reg) {
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform)
       .partAttr<&params<Cone>>("open", &Cone::open);
+  reg.cls<EntityObj>("Plane")
+      .defaults(&shapeDefaults<Plane>)
+      .ctor(&shapeCtor)
+      .attr("texture", &EntityObj::texture)
+      .attr("transform", &EntityObj::transform);
 
   reg.cls<MeshObj>("Mesh")
       .ctor(+[](MeshObj &m, std::optional<Affine> t) {

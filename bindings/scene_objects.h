@@ -58,7 +58,7 @@ struct TextureObj {
 /// Every analytic shape class (geometry/shapes/); `shape` says which, with
 /// its parameters. Kept small (one per object in big scenes).
 struct EntityObj {
-  static constexpr const char *kLuaName = "an entity (Sphere, Cylinder, Cone, Cube or Mesh)";
+  static constexpr const char *kLuaName = "an entity (a shape or a Mesh)";
   Affine transform;                ///< worldFromObject
   TextureObj *texture = nullptr;   ///< null = Texture()
   ScriptLoc loc;

@@ -17,7 +17,7 @@ Bounds3 sceneBounds(const Scene &scene) {
   std::unordered_map<const MeshData *, Bounds3> meshBoxes;
   for (const Entity &e : scene.entities) {
     Bounds3 b;
-    if (e.kind() == ShapeKind::Mesh) {
+    if (e.isMesh()) {
       if (!e.mesh) continue;
       auto [it, added] = meshBoxes.try_emplace(e.mesh.get());
       if (added) it->second = meshObjectBounds(*e.mesh);

@@ -10,8 +10,6 @@
 #include "geometry/affine.h"
 #include "geometry/error_bound.h"
 
-#include <cassert>
-
 namespace lray {
 
 namespace {
@@ -112,18 +110,6 @@ bool intersectAnalytic(const S &shape, const Entity &entity, uint32_t entityInde
 }
 
 } // namespace
-
-Shape makeShape(ShapeKind kind) {
-  switch (kind) {
-  case ShapeKind::Sphere: return Sphere{};
-  case ShapeKind::Cylinder: return Cylinder{};
-  case ShapeKind::Cone: return Cone{};
-  case ShapeKind::Cube: return Cube{};
-  case ShapeKind::Mesh: return Mesh{};
-  }
-  assert(false && "makeShape: not a ShapeKind");
-  return Sphere{};
-}
 
 const char *shapeName(const Shape &shape) {
   return std::visit([](const auto &s) { return std::decay_t<decltype(s)>::kName; }, shape);

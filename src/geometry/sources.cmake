@@ -3,6 +3,7 @@ list(APPEND LRAY_CORE_SOURCES
   src/geometry/shapes/cylinder.cpp
   src/geometry/shapes/cone.cpp
   src/geometry/shapes/cube.cpp
+  src/geometry/shapes/plane.cpp
   src/geometry/shape.cpp
   src/geometry/triangle_hit.cpp
   src/geometry/triangle_hits.cpp

@@ -2,6 +2,7 @@
 // closest entity, t and hit record from Embree and from the kd-tree, and
 // both agree with a brute-force double-precision reference.
 #include "accel/accelerator.h"
+#include "accel/kdtree/kdtree_accelerator.h"
 #include "shape_params.h"
 
 #include "accel_test_scenes.h"
@@ -100,8 +101,96 @@ TEST(BackendPair, EmbreeAndKdTreeReturnTheSameHits) {
   EXPECT_GT(mesh, 20);
 }
 
+// Planes are unbounded: both backends keep them out of their trees and test
+// them on every ray (accel/unbounded_shapes.h).
+Scene parityScenePlusPlanes() {
+  Scene s = parityScene();
+  Entity floor = shapeEntity(ShapeKind::Plane, Transform::translate({0, -2.5, 0}));
+  s.entities.insert(s.entities.begin() + 7, floor);
+  // Tilted behind everything; facing away from the rays' origin side too.
+  s.entities.push_back(shapeEntity(ShapeKind::Plane, Transform::translate({0, 0, 14}) *
+                                                         Transform::rotate({1, 0.3, 0}, 80)));
+  return s;
+}
+
+TEST_P(BackendParity, PlanesAgreeWithBruteForce) {
+  Scene s = parityScenePlusPlanes();
+  auto accel = makeAccelerator(GetParam(), s);
+  Scene without = parityScene();
+  EXPECT_EQ(accel->stats().primitives, makeAccelerator(GetParam(), without)->stats().primitives + 2);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int planeHits = 0, otherHits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Ray ray{{u(rng), u(rng), -3}, {0.6 * u(rng), 0.6 * u(rng), 1}};
+    auto [entity, t] = bruteForce(s, ray);
+    Hit h;
+    bool hit = accel->intersect(ray, h);
+    ASSERT_EQ(hit, entity >= 0) << i;
+    ASSERT_EQ(accel->occluded(ray), hit) << i;
+    if (!hit) continue;
+    ASSERT_EQ(h.entity, static_cast<uint32_t>(entity)) << i;
+    ASSERT_NEAR(h.t, t, 1e-5 * t) << i;
+    if (s.entities[h.entity].kind() == ShapeKind::Plane) {
+      ++planeHits;
+      // A shadow ray towards a point beyond the plane is blocked by it.
+      Ray through = spawnRay(h, ray.d);
+      EXPECT_FALSE(accel->intersect(through, h) && h.entity == static_cast<uint32_t>(entity));
+    } else {
+      ++otherHits;
+    }
+  }
+  EXPECT_GT(planeHits, 300);
+  EXPECT_GT(otherHits, 300);
+}
+
+TEST(BackendPair, PlanesGiveBitIdenticalHitsAndBatches) {
+  Scene s = parityScenePlusPlanes();
+  auto embree = makeAccelerator(BackendKind::Embree, s);
+  auto kdtree = makeAccelerator(BackendKind::KdTree, s);
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);
+  constexpr size_t kBatch = 64;
+  std::vector<Ray> rays(kBatch);
+  std::vector<Hit> ha(kBatch), hb(kBatch);
+  std::vector<uint8_t> fa(kBatch), fb(kBatch), oa(kBatch), ob(kBatch);
+  int planeHits = 0;
+  for (int batch = 0; batch < 40; ++batch) {
+    for (Ray &r : rays) r = {{u(rng), u(rng), -3}, {0.6 * u(rng), 0.6 * u(rng), 1}};
+    embree->intersectCoherent(rays.data(), kBatch, ha.data(), fa.data());
+    kdtree->intersectCoherent(rays.data(), kBatch, hb.data(), fb.data());
+    embree->occludedCoherent(rays.data(), kBatch, oa.data());
+    kdtree->occludedCoherent(rays.data(), kBatch, ob.data());
+    for (size_t i = 0; i < kBatch; ++i) {
+      Hit single;
+      ASSERT_EQ(fa[i], fb[i]) << batch << " " << i;
+      ASSERT_EQ(oa[i], fa[i]);
+      ASSERT_EQ(ob[i], fb[i]);
+      ASSERT_EQ(embree->intersect(rays[i], single), fa[i] != 0);
+      if (!fa[i]) continue;
+      ASSERT_EQ(ha[i].entity, hb[i].entity);
+      EXPECT_EQ(single.entity, ha[i].entity);
+      if (s.entities[ha[i].entity].kind() != ShapeKind::Plane) continue;
+      ++planeHits;
+      EXPECT_EQ(ha[i].t, hb[i].t);
+      EXPECT_EQ(ha[i].p, hb[i].p);
+      EXPECT_EQ(ha[i].u, hb[i].u);
+      EXPECT_EQ(ha[i].v, hb[i].v);
+    }
+  }
+  EXPECT_GT(planeHits, 500);
+}
+
 std::string backendCaseName(const ::testing::TestParamInfo<BackendKind> &param) {
   return backendName(param.param);
+}
+
+TEST(KdTreeAccelerator, PlanesStayOutOfTheTopLevelTree) {
+  Scene s = parityScenePlusPlanes();
+  KdTreeAccelerator accel(s);
+  const Bounds3 &b = accel.topLevelTree().bounds();
+  EXPECT_TRUE(isFinite(b.lo) && isFinite(b.hi));
+  EXPECT_LT(b.diagonal().y, 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, BackendParity,

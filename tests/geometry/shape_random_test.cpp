@@ -132,6 +132,9 @@ Reference reference(const Entity &e, const Ray &world) {
     // Points near an edge of the entry face: which face is "first" is a tie.
     break;
   }
+  case ShapeKind::Plane:
+    if (d.y != 0) consider(r, -o.y / d.y, true, 1);
+    break;
   case ShapeKind::Mesh: break;
   }
   if (r.hit && r.t < kTol) r.ambiguous = true;
@@ -236,8 +239,9 @@ TEST_P(ShapeRandom, DistantOriginsKeepThePointAccurate) {
 }
 
 std::string caseName(const ::testing::TestParamInfo<RandomCase> &param) {
-  static const char *const kNames[] = {"Sphere", "Cylinder", "Cone", "Cube", "Mesh"};
-  return std::string(kNames[static_cast<int>(param.param.kind)]) + (param.param.open ? "Open" : "");
+  Entity e;
+  e.shape = makeShape(param.param.kind);
+  return std::string(shapeName(e.shape)) + (param.param.open ? "Open" : "");
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ShapeRandom,

@@ -290,5 +290,77 @@ TEST(Cube, WorldBoundsOfRotatedCube) {
   expectVecNear(b.hi, {r, 0.5, r});
 }
 
+// --- Plane -------------------------------------------------------------------
+
+TEST(Plane, HitFromAboveAndBelowWithLocalXzAsUv) {
+  Entity e = makeEntity(ShapeKind::Plane);
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 2, ray({0.3, 2, -0.4}, {0, -1, 0}), h));
+  EXPECT_EQ(h.t, 2);
+  EXPECT_EQ(h.entity, 2u);
+  expectVecNear(h.p, {0.3, 0, -0.4}, 0);
+  expectVecNear(h.ng, {0, 1, 0}, 0);
+  expectVecNear(h.ns, {0, 1, 0}, 0);
+  EXPECT_EQ(h.u, 0.3);
+  EXPECT_EQ(h.v, -0.4);
+  // From below: the same outward normal (+y); the integrator flips it.
+  ASSERT_TRUE(intersectShape(e, 2, ray({5, -3, 7}, {1, 3, 0}), h));
+  EXPECT_EQ(h.t, 1);
+  expectVecNear(h.p, {6, 0, 7});
+  expectVecNear(h.ng, {0, 1, 0}, 0);
+  EXPECT_EQ(h.u, 6);
+  EXPECT_EQ(h.v, 7);
+}
+
+TEST(Plane, ParallelAndRecedingRaysMiss) {
+  Entity e = makeEntity(ShapeKind::Plane);
+  Hit h;
+  EXPECT_FALSE(intersectShape(e, 0, ray({0, 1, 0}, {1, 0, 0}), h));
+  EXPECT_FALSE(intersectShape(e, 0, ray({0, 0, 0}, {1, 0, 1}), h)); // lies in it
+  EXPECT_FALSE(intersectShape(e, 0, ray({0, 1, 0}, {0, 1, 0}), h));
+  EXPECT_FALSE(occludedShape(e, ray({0, 1, 0}, {0.3, 1, 0})));
+  Ray shadow = ray({0, 1, 0}, {0, -2, 0});
+  shadow.tMax = 0.4; // stops short of the plane
+  EXPECT_FALSE(occludedShape(e, shadow));
+  shadow.tMax = 0.6;
+  EXPECT_TRUE(occludedShape(e, shadow));
+}
+
+TEST(Plane, TransformMovesItAndItsNormalAndUv) {
+  // Rotate(x, 90) maps +y to +z: the plane z = 3 facing +z, local x = world x,
+  // local z = -world y.
+  Entity e = makeEntity(ShapeKind::Plane,
+                        Transform::translate({0, 0, 3}) * Transform::rotate({1, 0, 0}, 90));
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, ray({1, 2, -1}, {0, 0, 1}), h));
+  EXPECT_NEAR(h.t, 4, 1e-14);
+  expectVecNear(h.p, {1, 2, 3}, 1e-14);
+  expectVecNear(h.ng, {0, 0, 1}, 1e-15);
+  EXPECT_NEAR(h.u, 1, 1e-14);
+  EXPECT_NEAR(h.v, -2, 1e-14);
+  EXPECT_GT(h.pError, 0);
+  EXPECT_LT(h.pError, 1e-12);
+}
+
+TEST(Plane, IsUnboundedSoTheTreesLeaveItOut) {
+  Entity e = makeEntity(ShapeKind::Plane, Transform::translate({0, -1, 0}));
+  EXPECT_FALSE(shapeBounded(e));
+  EXPECT_TRUE(shapeBounded(makeEntity(ShapeKind::Sphere)));
+  Bounds3 b = shapeWorldBounds(e);
+  EXPECT_FALSE(std::isfinite(b.lo.x) || std::isfinite(b.hi.y));
+}
+
+TEST(Plane, DistantHitsStayOnThePlane) {
+  // 1e4 away along a grazing ray: the point is snapped onto y = 0 and the
+  // refined t agrees with the exact one.
+  Entity e = makeEntity(ShapeKind::Plane);
+  Ray r = ray({0, 1, 0}, {1e4, -1, 0.5});
+  Hit h;
+  ASSERT_TRUE(intersectShape(e, 0, r, h));
+  EXPECT_EQ(h.p.y, 0);
+  EXPECT_EQ(h.t, 1);
+  EXPECT_NEAR(h.u, 1e4, 1e-9);
+}
+
 } // namespace
 } // namespace lray

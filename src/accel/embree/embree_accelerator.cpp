@@ -171,7 +171,7 @@ bool finishHit(const Scene &scene, const Vec3 &frame, unsigned geomID, unsigned 
 
 } // namespace
 
-EmbreeAccelerator::EmbreeAccelerator(const Scene &scene) : scene_(scene) {
+EmbreeAccelerator::EmbreeAccelerator(const Scene &scene) : scene_(scene), unbounded_(scene) {
   auto start = std::chrono::steady_clock::now();
   try {
     build();
@@ -249,14 +249,14 @@ void EmbreeAccelerator::build() {
 
   std::unordered_map<const MeshData *, size_t> uses;
   for (const Entity &e : entities)
-    if (e.kind() == ShapeKind::Mesh && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
+    if (e.isMesh() && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
 
   std::unordered_map<const MeshData *, RTCScene> meshScene;
   for (size_t i = 0; i < entities.size(); ++i) {
     const Entity &e = entities[i];
     auto id = static_cast<unsigned>(i);
-    if (e.kind() != ShapeKind::Mesh) {
-      shapeRefs_.push_back({&e, id});
+    if (!e.isMesh()) {
+      if (!UnboundedShapes::holds(e)) shapeRefs_.push_back({&e, id});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;
@@ -308,6 +308,7 @@ void EmbreeAccelerator::build() {
     rtcReleaseGeometry(g);
     stats_.primitives += shapeRefs_.size();
   }
+  stats_.primitives += unbounded_.size();
   rtcCommitScene(root_);
 
   if (errorCode_.load() != 0)
@@ -335,11 +336,13 @@ bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   ctx.hits = &hit;
   ctx.bestT = &bestT;
   rtcIntersect1(root_, &ctx.base, &rh);
-  return finishHit(scene_, frameOrigin_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID,
-                   rh.ray.tfar, rh.hit.u, rh.hit.v, ray, hit);
+  bool found = finishHit(scene_, frameOrigin_, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID,
+                         rh.ray.tfar, rh.hit.u, rh.hit.v, ray, hit);
+  return unbounded_.empty() ? found : unbounded_.intersect(ray, hit, found);
 }
 
 bool EmbreeAccelerator::occluded(const Ray &ray) const {
+  if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
   RTCRay r;
   toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear,
            r.tfar);
@@ -420,6 +423,8 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
     prefetchVertices(previous, nq);
     fillTriangleHits(queries, nq, frameOrigin_);
   }
+  if (!unbounded_.empty())
+    for (size_t i = 0; i < count; ++i) found[i] = unbounded_.intersect(rays[i], hits[i], found[i]);
 }
 
 void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
@@ -444,6 +449,9 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     rtcOccluded8(valid, root_, &ctx.base, &r8);
     for (unsigned i = 0; i < lanes; ++i) occluded[base + i] = r8.tfar[i] < 0 ? 1 : 0;
   }
+  if (!unbounded_.empty())
+    for (size_t i = 0; i < count; ++i)
+      if (!occluded[i]) occluded[i] = unbounded_.occluded(rays[i]);
 }
 
 } // namespace lray

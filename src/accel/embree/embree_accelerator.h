@@ -7,6 +7,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "accel/unbounded_shapes.h"
 
 #include <atomic>
 #include <cstddef>
@@ -56,6 +57,9 @@ private:
   std::vector<RTCSceneTy *> meshScenes_;
   /// All analytic entities form one user geometry; primID indexes this.
   std::vector<ShapeRef> shapeRefs_;
+  /// Planes: outside the Embree scene, tested after it (closest) or before
+  /// it (any hit).
+  UnboundedShapes unbounded_;
   /// Origin of the float frame Embree works in (geometry/float_frame.h).
   Vec3 frameOrigin_;
   /// Padded copies of vertex buffers whose capacity leaves no room for

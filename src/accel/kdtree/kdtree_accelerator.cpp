@@ -108,7 +108,8 @@ KdTree buildMeshTree(const MeshData &mesh) {
 } // namespace
 
 KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
-    : scene_(scene), frameOrigin_(floatFrameOrigin(scene)), useAvx2_(cpuHasAvx2()) {
+    : scene_(scene), frameOrigin_(floatFrameOrigin(scene)), useAvx2_(cpuHasAvx2()),
+      unbounded_(scene) {
   auto start = std::chrono::steady_clock::now();
 
   // One bottom-level tree per distinct MeshData (shared_ptr identity).
@@ -118,7 +119,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
     const Entity &e = scene.entities[i];
     Instance inst;
     inst.entity = i;
-    if (e.kind() == ShapeKind::Mesh) {
+    if (e.isMesh()) {
       if (!e.mesh || e.mesh->triangleIndices.empty()) continue;
       auto [it, added] =
           treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));
@@ -131,8 +132,9 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
       topBounds.push_back(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
       ++stats_.instances;
     } else {
-      topBounds.push_back(shapeWorldBounds(e));
       ++stats_.primitives;
+      if (UnboundedShapes::holds(e)) continue;
+      topBounds.push_back(shapeWorldBounds(e));
     }
     instances_.push_back(inst);
   }
@@ -298,16 +300,16 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
                    : top_.traverse<false, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
                        return mailbox.firstVisit(prim) && testInstance(prim, tBest);
                      });
-  if (!found) return false;
-  if (bestIsTriangle) {
+  if (found && bestIsTriangle) {
     uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.mesh.ref];
     fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.mesh.b1,
                     best.mesh.b2, ray, frameOrigin_, hit);
   }
-  return true;
+  return unbounded_.empty() ? found : unbounded_.intersect(ray, hit, found);
 }
 
 template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const {
+  if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
     if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
@@ -427,6 +429,8 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
                       best.mesh.b2, packet[i], frameOrigin_, hit);
     }
   }
+  if (!unbounded_.empty())
+    for (size_t i = 0; i < count; ++i) found[i] = unbounded_.intersect(rays[i], hits[i], found[i]);
 }
 
 void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
@@ -442,6 +446,9 @@ void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     const uint32_t blocked = packetQuery<true>(rays + first, (1u << n) - 1, tMax, nullptr);
     for (int i = 0; i < n; ++i) occluded[first + i] = static_cast<uint8_t>(blocked >> i & 1u);
   }
+  if (!unbounded_.empty())
+    for (size_t i = 0; i < count; ++i)
+      if (!occluded[i]) occluded[i] = unbounded_.occluded(rays[i]);
 }
 
 } // namespace lray

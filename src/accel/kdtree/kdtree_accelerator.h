@@ -8,6 +8,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "accel/unbounded_shapes.h"
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"
 #include "math/transform.h"
@@ -121,6 +122,9 @@ private:
   bool usePackets_ = false;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
+  /// Planes: outside both levels, tested after them (closest) or before
+  /// them (any hit).
+  UnboundedShapes unbounded_;
   /// objectFromWorld of each transformed mesh instance.
   std::vector<Transform> transforms_;
   KdTree top_;

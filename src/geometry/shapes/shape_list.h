@@ -10,22 +10,39 @@
 #include "geometry/shapes/cube.h"
 #include "geometry/shapes/cylinder.h"
 #include "geometry/shapes/mesh.h"
+#include "geometry/shapes/plane.h"
 #include "geometry/shapes/sphere.h"
 
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 namespace lray {
 
 /// An entity's shape and its parameters.
-using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh>;
+using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh, Plane>;
 
 /// Which alternative of Shape (its index), for code that only needs the kind.
-enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh };
+enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh, Plane };
+
+template <ShapeKind K, class S>
+constexpr bool kKindIs = std::is_same_v<std::variant_alternative_t<size_t(K), Shape>, S>;
+static_assert(kKindIs<ShapeKind::Sphere, Sphere> && kKindIs<ShapeKind::Cylinder, Cylinder> &&
+                  kKindIs<ShapeKind::Cone, Cone> && kKindIs<ShapeKind::Cube, Cube> &&
+                  kKindIs<ShapeKind::Mesh, Mesh> && kKindIs<ShapeKind::Plane, Plane> &&
+                  std::variant_size_v<Shape> == size_t(ShapeKind::Plane) + 1,
+              "ShapeKind lists the alternatives of Shape in order");
 
 /// The shape of kind `kind` with its default parameters.
-Shape makeShape(ShapeKind kind);
+template <size_t... I> Shape makeShape(ShapeKind kind, std::index_sequence<I...>) {
+  Shape shape;
+  ((size_t(kind) == I ? (shape.emplace<I>(), 0) : 0), ...);
+  return shape;
+}
+inline Shape makeShape(ShapeKind kind) {
+  return makeShape(kind, std::make_index_sequence<std::variant_size_v<Shape>>{});
+}
 
 /// The Lua class name of a shape ("Sphere", ...).
 const char *shapeName(const Shape &shape);

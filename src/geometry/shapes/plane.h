@@ -1,0 +1,27 @@
+// Pipeline: geometry. Plane: the infinite plane y = 0 of its object space,
+// normal +y, one part (0), uv = the local (x, z) of the hit. Solid below its
+// surface (for CSG: the half-space y <= 0). Unbounded: the backends keep it
+// out of their trees (accel/unbounded_shapes.h).
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/shapes/object_space.h"
+#include "math/transform.h"
+
+namespace lray {
+
+struct Plane {
+  static constexpr const char *kName = "Plane";
+  static constexpr bool kBounded = false;
+
+  /// The whole space: a plane has no finite box (unless axis-aligned, which
+  /// is not worth a tree entry of its own).
+  Bounds3 worldBounds(const Mat4 &worldFromObject) const;
+  /// No re-origin: t = -o.y / d.y does not cancel for a distant origin.
+  double originShift(const Ray &) const { return 0; }
+  bool intersect(const Ray &ray, ObjectHit &hit) const;
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
+};
+
+} // namespace lray

@@ -2,6 +2,7 @@
 // Lua-table arrays, and the native mesh_from_obj.
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
+#include "bindings/validators.h"
 #include "scene/obj_loader.h"
 
 #include <cmath>
@@ -281,6 +282,13 @@ void registerEntityClasses(Registry &reg) {
       .ctor(&shapeCtor)
       .attr("texture", &EntityObj::texture)
       .attr("transform", &EntityObj::transform);
+  reg.cls<EntityObj>("Torus")
+      .defaults(&shapeDefaults<Torus>)
+      .ctor(&shapeCtor)
+      .attr("texture", &EntityObj::texture)
+      .attr("transform", &EntityObj::transform)
+      .partAttr<&params<Torus>>("major", &Torus::major, positiveNumber)
+      .partAttr<&params<Torus>>("minor", &Torus::minor, positiveNumber);
 
   reg.cls<MeshObj>("Mesh")
       .ctor(+[](MeshObj &m, std::optional<Affine> t) {

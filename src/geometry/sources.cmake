@@ -4,6 +4,7 @@ list(APPEND LRAY_CORE_SOURCES
   src/geometry/shapes/cone.cpp
   src/geometry/shapes/cube.cpp
   src/geometry/shapes/plane.cpp
+  src/geometry/shapes/torus.cpp
   src/geometry/shape.cpp
   src/geometry/triangle_hit.cpp
   src/geometry/triangle_hits.cpp

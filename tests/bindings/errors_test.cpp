@@ -57,6 +57,15 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(runLua("Light().cols = -1"), "test.lua:1: Light: attribute 'cols' expects a positive integer, got -1");
   EXPECT_EQ(runLua("MarblePigment3D().size = 0"),
             "test.lua:1: MarblePigment3D: attribute 'size' expects a positive number, got 0");
+  EXPECT_EQ(runLua("Torus().minor = 0"),
+            "test.lua:1: Torus: attribute 'minor' expects a positive number, got 0");
+  EXPECT_EQ(runLua("local t = Torus() { major = -1 }"),
+            "test.lua:1: Torus: attribute 'major' expects a positive number, got -1");
+  EXPECT_EQ(runLua("Torus().major = 'big'"),
+            "test.lua:1: Torus: attribute 'major' expects a number, got string");
+  EXPECT_EQ(runLua("Sphere().major = 1"),
+            "test.lua:1: Sphere: unknown attribute 'major'");
+  EXPECT_EQ(runLua("Plane().open = true"), "test.lua:1: Plane: unknown attribute 'open'");
   EXPECT_EQ(runLua("Perspective().fov = 180"),
             "test.lua:1: Perspective: attribute 'fov' expects an angle between 0 and 180 degrees, got 180");
   EXPECT_EQ(runLua("local c = Perspective(0)"),

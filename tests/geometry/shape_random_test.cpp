@@ -72,6 +72,47 @@ void cap(Reference &r, LD planeY, const V3L &o, const V3L &d) {
   consider(r, t, r2 <= 1, r2 - 1);
 }
 
+/// Torus (major R, minor r) along the object-space ray o + t d: h(t) =
+/// (rho - R)^2 + y^2 - r^2 sampled densely over the bounding sphere's chord,
+/// each sign change bisected in long double; near-tangent rays (a small
+/// sampled |h| with no sign change, or a root the ray meets at a grazing
+/// angle) are ambiguous.
+void torusReference(Reference &r, LD R, LD rm, const V3L &o, const V3L &d) {
+  auto h = [&](LD t) {
+    LD x = o.x + t * d.x, y = o.y + t * d.y, z = o.z + t * d.z;
+    LD a = std::sqrt(x * x + z * z) - R;
+    return a * a + y * y - rm * rm;
+  };
+  LD dd = d.x * d.x + d.y * d.y + d.z * d.z, od = o.x * d.x + o.y * d.y + o.z * d.z;
+  LD rb = R + rm, disc = od * od - dd * (o.x * o.x + o.y * o.y + o.z * o.z - rb * rb);
+  if (disc <= 0) return;
+  LD t0 = (-od - std::sqrt(disc)) / dd, t1 = (-od + std::sqrt(disc)) / dd;
+  const int kSamples = 1000;
+  LD step = (t1 - t0) / kSamples, prevT = t0, prevH = h(t0);
+  for (int i = 1; i <= kSamples; ++i) {
+    LD t = t0 + step * i, ht = h(t);
+    if (std::fabs(ht) < 1e-4L * rm * rm && (ht < 0) == (prevH < 0)) r.ambiguous = true;
+    if ((ht < 0) != (prevH < 0)) {
+      LD a = prevT, b = t, fa = prevH;
+      for (int k = 0; k < 200; ++k) {
+        LD m = (a + b) / 2, fm = h(m);
+        if ((fm < 0) == (fa < 0)) {
+          a = m;
+          fa = fm;
+        } else {
+          b = m;
+        }
+      }
+      LD root = (a + b) / 2, eps = 1e-9L * (1 + std::fabs(root));
+      LD slope = std::fabs(h(root + eps) - h(root - eps)) / (2 * eps);
+      // |dh/dt| = 2 r |d| cos at the surface.
+      consider(r, root, true, slope / (2 * rm * std::sqrt(dd)) < 1e-3L ? 0 : 1);
+    }
+    prevT = t;
+    prevH = ht;
+  }
+}
+
 Reference reference(const Entity &e, const Ray &world) {
   const Mat4 &inv = e.worldFromObject.inverseMatrix();
   V3L o = applyL(inv, world.o, true), d = applyL(inv, world.d, false);
@@ -135,6 +176,11 @@ Reference reference(const Entity &e, const Ray &world) {
   case ShapeKind::Plane:
     if (d.y != 0) consider(r, -o.y / d.y, true, 1);
     break;
+  case ShapeKind::Torus: {
+    const Torus &t = std::get<Torus>(e.shape);
+    torusReference(r, t.major, t.minor, o, d);
+    break;
+  }
   case ShapeKind::Mesh: break;
   }
   if (r.hit && r.t < kTol) r.ambiguous = true;
@@ -250,7 +296,8 @@ INSTANTIATE_TEST_SUITE_P(Shapes, ShapeRandom,
                                            RandomCase{ShapeKind::Cylinder, true},
                                            RandomCase{ShapeKind::Cone, false},
                                            RandomCase{ShapeKind::Cone, true},
-                                           RandomCase{ShapeKind::Cube, false}),
+                                           RandomCase{ShapeKind::Cube, false},
+                                           RandomCase{ShapeKind::Torus, false}),
                          caseName);
 
 } // namespace

@@ -167,6 +167,94 @@ TEST_P(StressGrazingRays, ConeTangentsGeneratorsAndApex) {
   EXPECT_EQ(nonFinite, 0);
 }
 
+TEST_P(StressGrazingRays, TorusTangents) {
+  // Tangent lines at points of the torus' outer (convex) part, where the
+  // tangent plane meets the torus nowhere else: moved inside by kEps along
+  // the normal they must hit next to the point, moved outside they must miss.
+  build(ShapeKind::Torus);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double r = 0.25;
+  int wrongIn = 0, wrongOut = 0, nonFinite = 0;
+  const int n = 2000;
+  for (int i = 0; i < n; ++i) {
+    double a = 2 * kPi * u(rng), b = (u(rng) - 0.5) * kPi * 0.88; // |phi| < 79 degrees
+    double alpha = 2 * kPi * u(rng);
+    Vec3 q{std::cos(a), 0, std::sin(a)};
+    Vec3 normal{std::cos(b) * q.x, std::sin(b), std::cos(b) * q.z};
+    Vec3 p = q + normal * r;
+    Vec3 alongRing{-std::sin(a), 0, std::cos(a)};
+    Vec3 alongTube{-std::sin(b) * q.x, std::cos(b), -std::sin(b) * q.z};
+    Vec3 t = normalize(alongRing * std::cos(alpha) + alongTube * std::sin(alpha));
+    Hit h;
+    if (!hit(p - normal * (kEps * r) - t * 3, t, h)) {
+      ++wrongIn;
+    } else {
+      if (!hitIsFinite(h)) ++nonFinite;
+      Vec3 pObject = h.pObject;
+      if (length(pObject - p) > 1e-2) ++wrongIn;
+    }
+    if (hit(p + normal * (kEps * r) - t * 3, t, h)) ++wrongOut;
+  }
+  // Down the axis through the hole, and along the axis of the tube circle.
+  Hit h;
+  EXPECT_FALSE(hit({0, 3, 0}, {0, -1, 0}, h));
+  ASSERT_TRUE(hit({-3, 0, 0}, {1, 0, 0}, h));
+  EXPECT_NEAR(h.t, 3 - 1.25, 1e-12);
+  EXPECT_TRUE(hitIsFinite(h));
+  std::printf("[tangent] %-6s torus: %d of %d wrong (inside %d, outside %d)\n",
+              backendName(GetParam()).c_str(), wrongIn + wrongOut, 2 * n, wrongIn, wrongOut);
+  EXPECT_EQ(wrongIn + wrongOut, 0);
+  EXPECT_EQ(nonFinite, 0);
+}
+
+/// y of M^-1 (w - translation) (point) or M^-1 w (vector) in long double
+/// by Cramer's rule on the stored matrix: the object-space height of a
+/// world-space point or direction as the shape's own matrix defines it.
+long double objectY(const Transform &xf, const Vec3 &w, bool point) {
+  using LD = long double;
+  const auto &m = xf.matrix().m;
+  LD b[3];
+  for (int i = 0; i < 3; ++i) b[i] = LD(w[i]) - (point ? LD(m[i][3]) : LD(0));
+  auto det = [](LD a00, LD a01, LD a02, LD a10, LD a11, LD a12, LD a20, LD a21, LD a22) {
+    return a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) +
+           a02 * (a10 * a21 - a11 * a20);
+  };
+  LD d = det(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+  LD dy = det(m[0][0], b[0], m[0][2], m[1][0], b[1], m[1][2], m[2][0], b[2], m[2][2]);
+  return dy / d;
+}
+
+TEST_P(StressGrazingRays, PlaneAtGrazingAngles) {
+  // Rays 1e-3 above the plane descending at slopes down to 1e-10 meet it
+  // up to 1e7 away, at t within 8 ulps of the long-double solution for the
+  // world ray as given, plus the rounding of long double itself (the
+  // object-space slope is a difference of O(1) terms: an absolute 2^-63 of
+  // it is 2^-63 / slope relative); level or rising rays miss.
+  build(ShapeKind::Plane);
+  int wrong = 0;
+  double worst = 0;
+  for (double slope = 1e-1; slope > 1e-10; slope /= 10) {
+    Hit h;
+    Ray r = worldRay({0, 1e-3, 0}, normalize(Vec3(1, -slope, 0.3)));
+    long double tExact = -objectY(xf_, r.o, true) / objectY(xf_, r.d, false);
+    if (!accel_->intersect(r, h)) {
+      ++wrong;
+      continue;
+    }
+    double err = static_cast<double>(std::fabs((h.t - tExact) / tExact)) / 0x1p-52;
+    if (slope >= 1e-4) worst = std::max(worst, err);
+    double allowed = 8 + 4 * 0x1p-63 / slope / 0x1p-52;
+    if (err > allowed || !hitIsFinite(h) || h.pObject.y != 0) ++wrong;
+    if (hit({0, 1e-3, 0}, normalize(Vec3(1, slope, 0.3)), h)) ++wrong;
+  }
+  Hit h;
+  EXPECT_FALSE(hit({0, 1e-3, 0}, {1, 0, 0}, h));
+  std::printf("[grazing] %-6s plane: %d wrong, worst |t - t_ref| at slopes >= 1e-4 %.2f ulp(t)\n",
+              backendName(GetParam()).c_str(), wrong, worst);
+  EXPECT_EQ(wrong, 0);
+}
+
 TEST_P(StressGrazingRays, CubeEdgesAndFacePlanes) {
   build(ShapeKind::Cube);
   int wrong = 0, nonFinite = 0;

@@ -54,8 +54,8 @@ TEST_P(StressScaleSweep, LitSurfacesDoNotShadowThemselves) {
       }
       // Lit analytically: the surface faces the light (cosine well above
       // zero) and the unit-frame segment to the light misses every other
-      // entity's box widened by 0.05 (all entities are convex, so a surface
-      // facing the light cannot shadow itself).
+      // entity's box widened by 0.05 (the entities are convex, or a torus lit
+      // from high above, so a surface facing the light cannot shadow itself).
       Vec3 n = dot(h.ng, rays[i].d) < 0 ? h.ng : -h.ng;
       Vec3 toLight = st.lightWorld - h.p;
       if (dot(n, toLight) <= 0.02 * length(toLight)) continue;

@@ -111,6 +111,9 @@ inline StressScene makeStressScene(double offset, double scale, bool withPlates 
                           {0, 1, 2, 0, 2, 3, 0, 4, 1, 1, 4, 2, 2, 4, 3, 3, 4, 0});
   unit.push_back(meshEntity(pyramid, Transform::translate({-1.5, 0.2, 2.5}) *
                                          Transform::rotate({0, 1, 0}, 20)));
+  // A torus lying on the floor (not convex, but lit from above at ~50
+  // degrees its lit side cannot shadow itself).
+  unit.push_back(shapeEntity(ShapeKind::Torus, Transform::translate({3, 0.25, 1.5})));
   if (withPlates) {
     const double h = Plates::kGap + Plates::kThickness / 2;
     unit.push_back(shapeEntity(ShapeKind::Cube,

@@ -12,6 +12,7 @@
 #include "geometry/shapes/mesh.h"
 #include "geometry/shapes/plane.h"
 #include "geometry/shapes/sphere.h"
+#include "geometry/shapes/torus.h"
 
 #include <cstdint>
 #include <type_traits>
@@ -21,17 +22,18 @@
 namespace lray {
 
 /// An entity's shape and its parameters.
-using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh, Plane>;
+using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus>;
 
 /// Which alternative of Shape (its index), for code that only needs the kind.
-enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh, Plane };
+enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus };
 
 template <ShapeKind K, class S>
 constexpr bool kKindIs = std::is_same_v<std::variant_alternative_t<size_t(K), Shape>, S>;
 static_assert(kKindIs<ShapeKind::Sphere, Sphere> && kKindIs<ShapeKind::Cylinder, Cylinder> &&
                   kKindIs<ShapeKind::Cone, Cone> && kKindIs<ShapeKind::Cube, Cube> &&
                   kKindIs<ShapeKind::Mesh, Mesh> && kKindIs<ShapeKind::Plane, Plane> &&
-                  std::variant_size_v<Shape> == size_t(ShapeKind::Plane) + 1,
+                  kKindIs<ShapeKind::Torus, Torus> &&
+                  std::variant_size_v<Shape> == size_t(ShapeKind::Torus) + 1,
               "ShapeKind lists the alternatives of Shape in order");
 
 /// The shape of kind `kind` with its default parameters.

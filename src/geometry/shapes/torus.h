@@ -1,0 +1,31 @@
+// Pipeline: geometry. Torus: the points at distance `minor` from the circle
+// of radius `major` around +y in the xz-plane of its object space. One part
+// (0). uv: u = turn fraction about +y from +x towards +z (as the cylinder's
+// side), v = turn fraction about the tube, from the outer equator (v = 0)
+// towards +y. The ray test is the quartic's, solved robustly (torus.cpp).
+#pragma once
+
+#include "geometry/bounds.h"
+#include "geometry/shapes/object_space.h"
+#include "math/transform.h"
+
+namespace lray {
+
+struct Torus {
+  static constexpr const char *kName = "Torus";
+  static constexpr bool kBounded = true;
+
+  double major = 1;    ///< radius of the centre circle (object units)
+  double minor = 0.25; ///< radius of the tube
+
+  /// Exact world box: the centre circle's box widened by the tube's ellipsoid.
+  Bounds3 worldBounds(const Mat4 &worldFromObject) const;
+  double originShift(const Ray &ray) const {
+    return closestApproachShift(ray, {}, kFarOrigin * (major + minor));
+  }
+  bool intersect(const Ray &ray, ObjectHit &hit) const;
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
+};
+
+} // namespace lray

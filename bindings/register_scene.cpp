@@ -60,7 +60,7 @@ void addLight(lua_State *L, SceneObj &scene, int value, const char *method, int 
   if (!light) {
     std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
     throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
-                      where + " expects a Light, got " + typeName(L, value));
+                      where + " expects " + LightObj::kLuaName + ", got " + typeName(L, value));
   }
   scene.lights.push_back(light);
   keepAlive(L, 1, value);
@@ -89,6 +89,11 @@ int addList(lua_State *L, const char *method) {
   }
   return 0;
 }
+
+template <class K> void lightDefaults(LightObj &l) { l.light = K{}; }
+
+/// The parameters of a light of class K (for partAttr).
+template <class K> K &params(LightObj &l) { return std::get<K>(l.light); }
 
 int addEntityMethod(lua_State *L) { return addOne<&addEntity>(L, "add_entity"); }
 int addEntitiesMethod(lua_State *L) { return addList<&addEntity>(L, "add_entities"); }
@@ -127,12 +132,13 @@ void registerSceneClasses(Registry &reg) {
       .attr("aspect", &Camera::aspect, positiveNumber);
 
   reg.cls<LightObj>("Light")
+      .defaults(&lightDefaults<Light>)
       .ctor(+[](LightObj &) {})
-      .attr("color", &Light::color)
-      .attr("rows", &Light::rows, positiveInteger)
-      .attr("cols", &Light::cols, positiveInteger)
-      .attr("area", &Light::area)
-      .attr("transform", &Light::worldFromLight);
+      .partAttr<&params<Light>>("color", &Light::color)
+      .partAttr<&params<Light>>("rows", &Light::rows, positiveInteger)
+      .partAttr<&params<Light>>("cols", &Light::cols, positiveInteger)
+      .partAttr<&params<Light>>("area", &Light::area)
+      .partAttr<&params<Light>>("transform", &Light::worldFromLight);
 
   auto scene = reg.cls<SceneObj>("Scene");
   scene.ctor(+[](SceneObj &) {})

@@ -31,9 +31,12 @@ public:
 
   Scene run(const SceneObj &in) {
     out_.background = in.background;
-    if (in.camera) out_.camera = *in.camera;
+    if (in.camera) {
+      out_.camera = *in.camera;
+      out_.camera.loc = ctx_.resolve(in.camera->loc);
+    }
     out_.lights.reserve(in.lights.size());
-    for (const LightObj *light : in.lights) out_.lights.push_back(*light);
+    for (const LightObj *light : in.lights) out_.lights.push_back(this->light(*light));
     out_.entities.reserve(in.entities.size());
     for (const EntityRef &ref : in.entities) {
       if (ref.isMesh)
@@ -49,6 +52,17 @@ private:
     Transform t = a.toTransform();
     if (t.singular()) throw SceneError(loc, std::string(what) + ": the transform is singular");
     return t;
+  }
+
+  SceneLight light(const LightObj &obj) {
+    SceneLight out = obj.light;
+    std::visit(
+        [&](auto &l) {
+          l.loc = ctx_.resolve(obj.loc);
+          if (std::string why = l.invalid(); !why.empty()) throw SceneError(l.loc, why);
+        },
+        out);
+    return out;
   }
 
   Entity shape(const EntityObj &e) {

@@ -90,10 +90,15 @@ struct MeshObj {
 
 struct CameraObj : Camera {
   static constexpr const char *kLuaName = "a camera (Perspective)";
+  ScriptLoc loc;
 };
 
-struct LightObj : Light {
-  static constexpr const char *kLuaName = "a Light";
+/// Every light class (shading/lights/); `light` says which, with its
+/// parameters.
+struct LightObj {
+  static constexpr const char *kLuaName = "a light";
+  SceneLight light;
+  ScriptLoc loc;
 };
 
 /// One entry of Scene:add_entity, in call order.

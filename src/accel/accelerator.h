@@ -5,7 +5,9 @@
 
 #include "geometry/hit.h"
 #include "math/ray.h"
+#include "render/frame_settings.h"
 #include "scene/scene.h"
+#include "shading/ray_counts.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +15,9 @@
 #include <string>
 
 namespace lray {
+
+class Film;
+class ImageCache;
 
 enum class BackendKind { Embree, KdTree };
 
@@ -45,6 +50,13 @@ public:
   virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const = 0;
 
   virtual AcceleratorStats stats() const = 0;
+
+  /// Renders one frame of `scene` (the scene this was built over) into
+  /// `film`: the tile loop and integrator instantiated for the concrete
+  /// backend (render/tile_renderer.h), so every query below this one
+  /// virtual call is direct. Adds the rays traced to `counts`.
+  virtual void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
+                      Film &film, RayCounts &counts, const ProgressFn &progress) const = 0;
 };
 
 /// Builds the chosen backend over `scene` (which must outlive the result).

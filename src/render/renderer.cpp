@@ -1,107 +1,12 @@
-// Pipeline: render. Tile scheduling, stratified sampling and the film.
+// Pipeline: render. See renderer.h.
 #include "render/renderer.h"
 
-#include "accel/embree/embree_accelerator.h"
-#include "accel/kdtree/kdtree_accelerator.h"
-#include "math/random.h"
-#include "render/camera_rays.h"
-#include "shading/image_cache.h"
-#include "shading/integrator.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
-
-#include <array>
-#include <atomic>
-#include <stdexcept>
-#include <xmmintrin.h>
-
 namespace lray {
-
-namespace {
-
-// Denormals are flushed to zero on render threads: they cost 100x on x86 and
-// never change a visible value.
-void setFlushToZero() { _mm_setcsr(_mm_getcsr() | 0x8040); }
-
-template <class Accel>
-void renderTiles(const Scene &scene, const Accel &accel, const ImageCache &images,
-                 const FrameSettings &settings, Film &film, RayCounts &counts,
-                 const ProgressFn &progress) {
-  const Integrator<Accel> integrator(scene, accel, images);
-  const CameraRays camera(scene.camera, settings.width, settings.height);
-  const int n = settings.samples;
-  const double invSamples = 1.0 / (static_cast<double>(n) * n);
-  const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
-  const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
-  const size_t tileCount = static_cast<size_t>(tilesX) * tilesY;
-  std::atomic<size_t> tilesDone{0};
-  tbb::combinable<RayCounts> perThread;
-
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tileCount, 1), [&](const tbb::blocked_range<size_t> &r) {
-    setFlushToZero();
-    constexpr int kTilePixels = kTileSize * kTileSize;
-    std::array<Ray, kTilePixels> rays;
-    std::array<Hit, kTilePixels> hits;
-    std::array<uint8_t, kTilePixels> found;
-    std::array<Sampler, kTilePixels> samplers;
-    std::array<Color, kTilePixels> sums, colors;
-    static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
-    RayCounts &local = perThread.local();
-    for (size_t tile = r.begin(); tile != r.end(); ++tile) {
-      const int x0 = static_cast<int>(tile % tilesX) * kTileSize;
-      const int y0 = static_cast<int>(tile / tilesX) * kTileSize;
-      const int x1 = std::min(x0 + kTileSize, settings.width);
-      const int y1 = std::min(y0 + kTileSize, settings.height);
-      const int tileWidth = x1 - x0;
-      const size_t count = static_cast<size_t>(tileWidth) * (y1 - y0);
-      sums.fill(Color());
-      for (int s = 0; s < n * n; ++s) {
-        const int sx = s % n, sy = s / n;
-        for (size_t i = 0; i < count; ++i) {
-          const int x = x0 + static_cast<int>(i) % tileWidth;
-          const int y = y0 + static_cast<int>(i) / tileWidth;
-          const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
-          samplers[i] = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel, static_cast<uint64_t>(s));
-          const double jx = samplers[i].next(), jy = samplers[i].next();
-          rays[i] = camera.generate(x + (sx + jx) / n, y + (sy + jy) / n);
-        }
-        accel.intersectCoherent(rays.data(), count, hits.data(), found.data());
-        local.camera += count;
-        integrator.shadeTile(rays.data(), hits.data(), found.data(), samplers.data(), count,
-                             colors.data(), local);
-        for (size_t i = 0; i < count; ++i) {
-          Color c = colors[i];
-          if (!isFinite(c)) {
-            ++local.nonFinite;
-            c = Color();
-          }
-          sums[i] += c;
-        }
-      }
-      for (size_t i = 0; i < count; ++i)
-        film.set(x0 + static_cast<int>(i) % tileWidth, y0 + static_cast<int>(i) / tileWidth,
-                 sums[i] * invSamples);
-      size_t done = ++tilesDone;
-      if (progress) progress(done, tileCount);
-    }
-  });
-  perThread.combine_each([&](const RayCounts &c) { counts += c; });
-}
-
-} // namespace
 
 Film renderFrame(const Scene &scene, const Accelerator &accel, const ImageCache &images,
                  const FrameSettings &settings, RayCounts &counts, const ProgressFn &progress) {
   Film film(settings.width, settings.height);
-  // One switch per frame picks the concrete backend; below it every call is direct.
-  if (const auto *embree = dynamic_cast<const EmbreeAccelerator *>(&accel))
-    renderTiles(scene, *embree, images, settings, film, counts, progress);
-  else if (const auto *kdtree = dynamic_cast<const KdTreeAccelerator *>(&accel))
-    renderTiles(scene, *kdtree, images, settings, film, counts, progress);
-  else
-    throw std::logic_error("renderFrame: unknown accelerator type");
+  accel.render(scene, images, settings, film, counts, progress);
   return film;
 }
 

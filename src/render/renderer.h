@@ -1,33 +1,17 @@
 // Pipeline: render. Renders one frame of a converted scene with a built
-// backend: TBB schedules 16x16 pixel tiles; every pixel's samples use a
-// counter-based random stream keyed by (frame, pixel, sample), so the image
-// is the same whatever the thread count or the order tiles run in.
+// backend, whichever it is: the backend runs the tile loop of
+// tile_renderer.h instantiated for its own type (Accelerator::render).
 #pragma once
 
 #include "accel/accelerator.h"
 #include "render/film.h"
+#include "render/frame_settings.h"
 #include "scene/scene.h"
 #include "shading/ray_counts.h"
-
-#include <functional>
 
 namespace lray {
 
 class ImageCache;
-
-/// What one frame is rendered at.
-struct FrameSettings {
-  int width = 800;
-  int height = 600;
-  int samples = 1;    ///< n: n x n stratified jittered samples per pixel
-  int frameIndex = 0; ///< part of the random-stream key
-};
-
-/// Called after each finished tile with (tiles done, tiles total), from
-/// worker threads: must be thread-safe.
-using ProgressFn = std::function<void(size_t, size_t)>;
-
-constexpr int kTileSize = 16;
 
 /// Renders `scene` into a new film. Returns the rays traced, by kind.
 /// Non-finite sample values are replaced by black and counted.

@@ -9,6 +9,7 @@
 #include "math/vec3.h"
 #include "scene/mesh_data.h"
 #include "scene/scene_error.h"
+#include "shading/lights/light_list.h"
 
 #include <cstdint>
 #include <string>
@@ -104,21 +105,13 @@ struct Entity {
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
 };
 
-/// A rows x cols light (SPEC 6): a 1x1 square in its local xz-plane.
-struct Light {
-  Color color{1, 1, 1};
-  int rows = 1;
-  int cols = 1;
-  bool area = false;
-  Transform worldFromLight;
-};
-
 /// Perspective camera (SPEC 4): horizontal fov in degrees, aspect = w/h of
 /// the image plane; looks down +z of its own frame, +y up.
 struct Camera {
   double fov = 45;
   double aspect = 1.33;
   Transform worldFromCamera;
+  SourceLocation loc;
 };
 
 /// One frame's complete scene.
@@ -126,7 +119,7 @@ struct Scene {
   Color background{0, 0, 0};
   Camera camera;
   std::vector<Entity> entities;
-  std::vector<Light> lights;
+  std::vector<SceneLight> lights; ///< shading/lights/light_list.h
   std::vector<Texture> textures; ///< at least one (the default) when entities exist
   std::vector<Pigment> pigments;
   std::vector<ImageRef> images;

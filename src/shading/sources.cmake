@@ -1,2 +1,3 @@
 list(APPEND LRAY_CORE_SOURCES src/shading/perlin_noise.cpp src/shading/texture_map.cpp
-     src/shading/texture_image.cpp src/shading/image_cache.cpp src/shading/pigment.cpp)
+     src/shading/texture_image.cpp src/shading/image_cache.cpp src/shading/pigment.cpp
+     src/shading/material_table.cpp)

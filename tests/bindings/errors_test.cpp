@@ -167,7 +167,7 @@ TEST_F(BindingErrorTest, SceneMethodsCheckTheirArguments) {
             "test.lua:1: Scene:add_entities: argument 1, entry 2 expects an entity (a shape or a "
             "Mesh), got number");
   EXPECT_EQ(runLua("Scene():add_light(Sphere())"),
-            "test.lua:1: Scene:add_light: argument 1 expects a Light, got Sphere");
+            "test.lua:1: Scene:add_light: argument 1 expects a light, got Sphere");
   EXPECT_EQ(runLua("Scene():add_lights(Light())"),
             "test.lua:1: Scene:add_lights: argument 1 expects a list, got Light");
   EXPECT_EQ(runLua("Scene().add_light(Light())"),

@@ -30,11 +30,12 @@ TEST_F(SceneConverterTest, CameraBackgroundAndLights) {
   EXPECT_EQ(scene.camera.aspect, 2);
   EXPECT_EQ(scene.camera.worldFromCamera.applyPoint({0, 0, 0}), Vec3(0, 0, -5));
   ASSERT_EQ(scene.lights.size(), 1u);
-  EXPECT_EQ(scene.lights[0].color, Color(1, 0, 0));
-  EXPECT_EQ(scene.lights[0].rows, 2);
-  EXPECT_EQ(scene.lights[0].cols, 3);
-  EXPECT_TRUE(scene.lights[0].area);
-  EXPECT_EQ(scene.lights[0].worldFromLight.applyPoint({0, 0, 0}), Vec3(0, 1, 0));
+  const Light &light = std::get<Light>(scene.lights[0]);
+  EXPECT_EQ(light.color, Color(1, 0, 0));
+  EXPECT_EQ(light.rows, 2);
+  EXPECT_EQ(light.cols, 3);
+  EXPECT_TRUE(light.area);
+  EXPECT_EQ(light.worldFromLight.applyPoint({0, 0, 0}), Vec3(0, 1, 0));
 }
 
 TEST_F(SceneConverterTest, EntitiesKeepKindTransformFlagsAndLocation) {

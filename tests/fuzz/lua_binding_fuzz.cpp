@@ -148,7 +148,8 @@ void checkScene(const lray::Scene &s) {
       for (uint32_t i : e.mesh->triangleIndices) check(i < e.mesh->positions.size());
     }
   }
-  for (const lray::Light &l : s.lights) check(finite(l.worldFromLight) && finite(l.color));
+  for (const lray::SceneLight &light : s.lights)
+    std::visit([&](const auto &l) { check(finite(l.worldFromLight) && finite(l.color)); }, light);
   for (const lray::Texture &t : s.textures) {
     const lray::Finish &f = t.finish;
     check(finite(f.ambient) && std::isfinite(f.diffuse) && std::isfinite(f.specular) &&

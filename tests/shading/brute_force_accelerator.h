@@ -60,6 +60,10 @@ public:
     for (size_t i = 0; i < count; ++i) occ[i] = occluded(rays[i]) ? 1 : 0;
   }
   AcceleratorStats stats() const override { return {}; }
+  /// A whole frame through the same tile loop and integrator as the real
+  /// backends (brute_force_render.cpp).
+  void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
+              Film &film, RayCounts &counts, const ProgressFn &progress) const override;
 
 private:
   bool intersectEntity(uint32_t index, const Ray &worldRay, Hit &hit) const {

@@ -1,0 +1,222 @@
+// Pipeline: shading. The definitions of integrator.h: Whitted recursion,
+// the one light loop and the tile batching. Included only where the
+// integrator is instantiated for a concrete backend (one translation unit
+// per backend, in src/accel/, and the tests' brute-force accelerator).
+#pragma once
+
+#include "geometry/spawn.h"
+#include "shading/integrator.h"
+#include "shading/phong.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+
+namespace lray {
+
+namespace integrator_detail {
+
+/// The emitting lights of `scene`, prepared for sampling.
+inline std::vector<LightSampler> prepareLights(const Scene &scene) {
+  std::vector<LightSampler> lights;
+  for (const SceneLight &light : scene.lights) {
+    LightSampler s = prepareLight(light);
+    if (lightEmits(s)) lights.push_back(s); // a dark light: dropped here, not per sample
+  }
+  return lights;
+}
+
+} // namespace integrator_detail
+
+template <class Accel>
+Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const ImageCache &images)
+    : accel_(accel), background_(scene.background),
+      lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()) {
+  images_.reserve(scene.images.size());
+  for (const ImageRef &ref : scene.images) {
+    const TextureImage *image = images.find(ref.path);
+    if (!image) {
+      throw SceneError(ref.loc, "ImagePigment2D: image '" + ref.path + "' was not loaded");
+    }
+    images_.push_back(image);
+  }
+  pigmentTable_ = {scene.pigments.data(), scene.pigments.size(), images_.data(), images_.size()};
+}
+
+template <class Accel>
+Color Integrator<Accel>::shadeHit(const Ray &ray, const Hit &hit, Sampler &sampler,
+                                  RayCounts &counts) const {
+  return shade(ray, hit, 0, 1.0, sampler, counts);
+}
+
+template <class Accel>
+Color Integrator<Accel>::trace(const Ray &ray, Sampler &sampler, RayCounts &counts) const {
+  return traceRay(ray, 0, 1.0, sampler, counts);
+}
+
+template <class Accel>
+Color Integrator<Accel>::traceRay(const Ray &ray, int depth, double weight, Sampler &sampler,
+                                  RayCounts &counts) const {
+  Hit hit;
+  if (!accel_.intersect(ray, hit)) return background_;
+  return shade(ray, hit, depth, weight, sampler, counts);
+}
+
+template <class Accel>
+void Integrator<Accel>::surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const {
+  s.m = &materials_.ofEntity(hit.entity);
+  // Which side the ray arrives from is decided by the geometric normal.
+  s.entering = dot(ray.d, hit.ng) < 0;
+  s.n = s.entering ? hit.ns : -hit.ns;
+  s.dir = normalize(ray.d);
+  s.v = -s.dir;
+  s.pigment = evaluatePigment(pigmentTable_, s.m->pigment, hit);
+}
+
+template <class Accel>
+void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
+                                       const uint8_t *found, Sampler *samplers, size_t count,
+                                       bool coherent, const LightScratch &scratch, Color *sums,
+                                       RayCounts &counts) const {
+  for (const LightSampler &light : lights_) {
+    std::visit(
+        [&](const auto &source) {
+          const int samples = source.sampleCount();
+          for (int k = 0; k < samples; ++k) {
+            size_t n = 0;
+            for (size_t i = 0; i < count; ++i) {
+              if ((found && !found[i]) || !surfaces[i].m->lit) continue;
+              const Hit &hit = hits[i];
+              LightSample sample = source.sample(k, hit.p, samplers[i]);
+              auto &p = scratch.pending[n];
+              p.dir.target = sample.target;
+              Vec3 toLight = sample.target - hit.p;
+              double dist = length(toLight);
+              if (!(dist > 0) || sample.color.isBlack()) continue;
+              p.dir.l = toLight / dist;
+              p.dir.nl = dot(surfaces[i].n, p.dir.l);
+              if (p.dir.nl <= 0) continue; // faces away: no shadow ray
+              p.dir.color = sample.color;
+              ++counts.shadow;
+              p.ray = static_cast<uint32_t>(i);
+              scratch.shadowRays[n] = spawnRayTo(hit, sample.target);
+              ++n;
+            }
+            if (n == 0) continue;
+            if (coherent) {
+              accel_.occludedCoherent(scratch.shadowRays, n, scratch.blocked);
+            } else {
+              for (size_t j = 0; j < n; ++j) scratch.blocked[j] = accel_.occluded(scratch.shadowRays[j]);
+            }
+            for (size_t j = 0; j < n; ++j) {
+              if (scratch.blocked[j]) continue;
+              const auto &p = scratch.pending[j];
+              const Surface &s = surfaces[p.ray];
+              const Color diffuseColor = s.pigment * s.m->finish.diffuse;
+              sums[p.ray] += p.dir.color * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
+            }
+          }
+        },
+        light);
+  }
+}
+
+template <class Accel>
+Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double weight,
+                               Sampler &sampler, RayCounts &counts) const {
+  Surface s;
+  surfaceAt(ray, hit, s);
+  Color c = s.pigment * s.m->finish.ambient;
+  if (s.m->lit) {
+    typename LightScratch::Pending pending;
+    Ray shadowRay;
+    uint8_t blocked;
+    Color sum;
+    addDirectLight(&hit, &s, nullptr, &sampler, 1, false, {&pending, &shadowRay, &blocked}, &sum,
+                   counts);
+    c += sum;
+  }
+  return addSecondary(hit, s, c, depth, weight, sampler, counts);
+}
+
+template <class Accel> struct Integrator<Accel>::TileScratch {
+  std::array<Surface, kMaxTileRays> surface;
+  std::array<Color, kMaxTileRays> lightSum;
+  std::array<typename LightScratch::Pending, kMaxTileRays> pending;
+  std::array<Ray, kMaxTileRays> shadowRays;
+  std::array<uint8_t, kMaxTileRays> blocked;
+};
+
+template <class Accel>
+void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
+                                  Sampler *samplers, size_t count, Color *out,
+                                  RayCounts &counts) const {
+  assert(count <= kMaxTileRays);
+  // Per-thread scratch: arrays of this size constructed on every call
+  // cost the gallery scenes 2-3 % of their render time.
+  static thread_local TileScratch scratch;
+  auto &surface = scratch.surface;
+  auto &lightSum = scratch.lightSum; // the direct light, per ray
+  for (size_t i = 0; i < count; ++i) {
+    if (!found[i]) continue;
+    surfaceAt(rays[i], hits[i], surface[i]);
+    lightSum[i] = Color();
+  }
+  addDirectLight(hits, surface.data(), found, samplers, count, true,
+                 {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data()},
+                 lightSum.data(), counts);
+  for (size_t i = 0; i < count; ++i) {
+    if (!found[i]) {
+      out[i] = background_;
+      continue;
+    }
+    const Surface &s = surface[i];
+    Color c = s.pigment * s.m->finish.ambient;
+    if (s.m->lit) c += lightSum[i];
+    out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts);
+  }
+}
+
+template <class Accel>
+Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c, int depth,
+                                      double weight, Sampler &sampler, RayCounts &counts) const {
+  const Material &m = *s.m;
+  const Finish &f = m.finish;
+  if ((!m.reflects && !m.refracts) || depth >= kMaxDepth) return c;
+
+  const Vec3 &n = s.n, &dir = s.dir;
+  double dn = dot(dir, n);
+  Vec3 mirrorDir = dir - n * (2 * dn);
+  double kr = m.reflects ? f.reflection : 0;
+
+  if (m.refracts && f.refraction * weight >= kBailout) {
+    double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
+    double cosI = std::clamp(-dn, 0.0, 1.0);
+    double k = 1 - eta * eta * (1 - cosI * cosI);
+    if (k < 0) {
+      kr += f.refraction; // total internal reflection: the energy follows the mirror ray
+    } else {
+      Vec3 tDir = normalize(dir * eta + n * (eta * cosI - std::sqrt(k)));
+      Ray refracted = spawnRay(hit, tDir);
+      ++counts.refraction;
+      Hit next;
+      Color seen = background_;
+      double d = 0; // distance travelled inside the object
+      if (accel_.intersect(refracted, next)) {
+        seen = shade(refracted, next, depth + 1, weight * f.refraction, sampler, counts);
+        if (s.entering) d = next.t; // tDir is unit, so t is a distance
+      }
+      double attenuation = d > 0 ? std::exp(-std::max(0.0, f.absorption) * d) : 1.0;
+      c += seen * (f.refraction * attenuation);
+    }
+  }
+
+  if (kr > 0 && kr * weight >= kBailout) {
+    ++counts.reflection;
+    c += traceRay(spawnRay(hit, mirrorDir), depth + 1, weight * kr, sampler, counts) * kr;
+  }
+  return c;
+}
+
+} // namespace lray

@@ -1,0 +1,67 @@
+// Pipeline: shading. Light (SPEC 6): a 1 x 1 square in its local xz-plane,
+// centred at its origin, split into rows x cols cells (cols along local x,
+// rows along local z) and placed by worldFromLight. Each shading point
+// takes one sample per cell, at the cell centre or (area) jittered inside
+// it; a 1 x 1 light that is not `area` is a point light at its origin.
+#pragma once
+
+#include "math/color.h"
+#include "math/random.h"
+#include "math/transform.h"
+#include "scene/scene_error.h"
+#include "shading/lights/light_sample.h"
+
+#include <string>
+
+namespace lray {
+
+struct Light {
+  Color color{1, 1, 1};
+  int rows = 1;
+  int cols = 1;
+  bool area = false; ///< jitter inside each cell instead of its centre
+  Transform worldFromLight;
+  SourceLocation loc;
+
+  /// A script-level problem with the values ("": none; each is checked alone).
+  std::string invalid() const { return {}; }
+
+  /// World-space cell grid, prepared once per frame; sampling needs no
+  /// matrix product.
+  class Sampler {
+  public:
+    explicit Sampler(const Light &light)
+        : corner_(light.worldFromLight.applyPoint({-0.5, 0, -0.5})),
+          cellX_(light.worldFromLight.applyVector({1.0 / light.cols, 0, 0})),
+          cellZ_(light.worldFromLight.applyVector({0, 0, 1.0 / light.rows})),
+          weightedColor_(light.color / (static_cast<double>(light.rows) * light.cols)),
+          rows_(light.rows), cols_(light.cols), area_(light.area),
+          emits_(light.rows > 0 && light.cols > 0 && !light.color.isBlack()) {}
+
+    /// A black or empty light can never add anything: the integrator drops it.
+    bool emits() const { return emits_; }
+    int sampleCount() const { return rows_ * cols_; }
+
+    /// Sample k (cell row k / cols, column k % cols): its jitter, for area
+    /// lights, drawn from `random` (x then z); the colour is colour / cells.
+    LightSample sample(int k, const Vec3 &, lray::Sampler &random) const {
+      const int row = k / cols_, col = k % cols_;
+      double fx = 0.5, fz = 0.5;
+      if (area_) {
+        fx = random.next();
+        fz = random.next();
+      }
+      return {corner_ + cellX_ * (col + fx) + cellZ_ * (row + fz), weightedColor_};
+    }
+
+  private:
+    Vec3 corner_; ///< world position of local (-0.5, 0, -0.5)
+    Vec3 cellX_;  ///< world step of one cell along local x (length / cols)
+    Vec3 cellZ_;  ///< world step of one cell along local z (length / rows)
+    Color weightedColor_;
+    int rows_, cols_;
+    bool area_, emits_;
+  };
+};
+
+} // namespace lray

@@ -1,0 +1,34 @@
+// Pipeline: shading. The one list of light kinds: a scene light is one of
+// these, and the integrator's one light loop reaches each kind's sampler
+// through std::visit. Adding a light: its file in this folder, one entry
+// in each variant here, one registration in bindings/register_scene.cpp
+// (README.md, "Adding a light").
+#pragma once
+
+#include "shading/lights/light.h"
+
+#include <variant>
+
+namespace lray {
+
+/// A light of the scene with its parameters.
+using SceneLight = std::variant<Light>;
+
+/// A light prepared for sampling (one per emitting light, per frame).
+using LightSampler = std::variant<Light::Sampler>;
+
+inline LightSampler prepareLight(const SceneLight &light) {
+  return std::visit([](const auto &l) -> LightSampler { return typename std::decay_t<decltype(l)>::Sampler(l); },
+                    light);
+}
+
+inline bool lightEmits(const LightSampler &light) {
+  return std::visit([](const auto &l) { return l.emits(); }, light);
+}
+
+/// Where a scene light was defined (for render-time messages).
+inline const SourceLocation &lightLocation(const SceneLight &light) {
+  return std::visit([](const auto &l) -> const SourceLocation & { return l.loc; }, light);
+}
+
+} // namespace lray

@@ -139,6 +139,13 @@ void registerSceneClasses(Registry &reg) {
       .partAttr<&params<Light>>("cols", &Light::cols, positiveInteger)
       .partAttr<&params<Light>>("area", &Light::area)
       .partAttr<&params<Light>>("transform", &Light::worldFromLight);
+  reg.cls<LightObj>("SpotLight")
+      .defaults(&lightDefaults<SpotLight>)
+      .ctor(+[](LightObj &) {})
+      .partAttr<&params<SpotLight>>("color", &SpotLight::color)
+      .partAttr<&params<SpotLight>>("transform", &SpotLight::worldFromLight)
+      .partAttr<&params<SpotLight>>("angle", &SpotLight::angle, rightAngleOrLess)
+      .partAttr<&params<SpotLight>>("falloff", &SpotLight::falloff, rightAngleOrLess);
 
   auto scene = reg.cls<SceneObj>("Scene");
   scene.ctor(+[](SceneObj &) {})

@@ -66,6 +66,15 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(runLua("Sphere().major = 1"),
             "test.lua:1: Sphere: unknown attribute 'major'");
   EXPECT_EQ(runLua("Plane().open = true"), "test.lua:1: Plane: unknown attribute 'open'");
+  EXPECT_EQ(runLua("SpotLight().angle = -1"),
+            "test.lua:1: SpotLight: attribute 'angle' expects an angle between 0 and 90 degrees, got -1");
+  EXPECT_EQ(runLua("local s = SpotLight() { falloff = 91 }"),
+            "test.lua:1: SpotLight: attribute 'falloff' expects an angle between 0 and 90 degrees, "
+            "got 91");
+  EXPECT_EQ(runLua("SpotLight().angle = 'wide'"),
+            "test.lua:1: SpotLight: attribute 'angle' expects a number, got string");
+  EXPECT_EQ(runLua("SpotLight().rows = 2"), "test.lua:1: SpotLight: unknown attribute 'rows'");
+  EXPECT_EQ(runLua("Light().falloff = 2"), "test.lua:1: Light: unknown attribute 'falloff'");
   EXPECT_EQ(runLua("Perspective().fov = 180"),
             "test.lua:1: Perspective: attribute 'fov' expects an angle between 0 and 180 degrees, got 180");
   EXPECT_EQ(runLua("local c = Perspective(0)"),

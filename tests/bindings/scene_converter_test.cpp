@@ -191,6 +191,38 @@ TEST_F(SceneConverterTest, MeshCopiesShareOneMeshData) {
   EXPECT_EQ(changed.entities[1].mesh->positions[1].x, 1); // the copy kept its geometry
 }
 
+TEST_F(SceneConverterTest, SpotLightsKeepTheirParametersAndLocation) {
+  ASSERT_EQ(runLua("s = Scene()\n"
+                   "s:add_lights({Light(), SpotLight() { angle = 10, falloff = 20, color = red,\n"
+                   "  transform = LookAt(Vector(0, 4, 0), origin, z) }})"),
+            "");
+  Scene scene = convertGlobal("s");
+  ASSERT_EQ(scene.lights.size(), 2u);
+  EXPECT_EQ(std::get<Light>(scene.lights[0]).loc.str(), "test.lua:2");
+  const SpotLight &spot = std::get<SpotLight>(scene.lights[1]);
+  EXPECT_EQ(spot.angle, 10);
+  EXPECT_EQ(spot.falloff, 20);
+  EXPECT_EQ(spot.color, Color(1, 0, 0));
+  EXPECT_EQ(spot.loc.str(), "test.lua:2");
+  // LookAt aims local +z at the target.
+  Vec3 axis = spot.worldFromLight.applyVector({0, 0, 1});
+  EXPECT_NEAR(axis.y, -1, 1e-12);
+}
+
+TEST_F(SceneConverterTest, SpotLightFalloffBelowItsAngleIsAnErrorAtItsLine) {
+  ASSERT_EQ(runLua("s = Scene()\n"
+                   "l = SpotLight() { angle = 40 }\n"
+                   "l.falloff = 20\n"
+                   "s:add_light(l)"),
+            "");
+  try {
+    convertGlobal("s");
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError &e) {
+    EXPECT_STREQ(e.what(), "test.lua:2: SpotLight: falloff (20) must be at least angle (40)");
+  }
+}
+
 TEST_F(SceneConverterTest, APigmentContainingItselfIsAnError) {
   ASSERT_EQ(runLua("s = Scene()\n"
                    "p = CheckerPigment2D()\n"

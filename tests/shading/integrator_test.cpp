@@ -81,6 +81,18 @@ struct SceneBuilder {
     l.area = area;
     scene.lights.push_back(l);
   }
+  /// A SpotLight at `from` aimed at `at`.
+  void spot(const Vec3 &from, const Vec3 &at, double angle, double falloff,
+            const Color &c = {1, 1, 1}) {
+    SpotLight l;
+    l.worldFromLight = Transform::lookAt(from, at, std::fabs(at.x - from.x) + std::fabs(at.z - from.z) > 0
+                                                       ? Vec3(0, 1, 0)
+                                                       : Vec3(0, 0, 1));
+    l.angle = angle;
+    l.falloff = falloff;
+    l.color = c;
+    scene.lights.push_back(l);
+  }
 };
 
 struct Traced {
@@ -268,6 +280,7 @@ TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
   b.light(Transform::translate({3, 5, -4}), {0.8, 0.8, 0.8});
   b.light(Transform::translate({-2, 4, -2}) * Transform::scale(1.5, 1, 1.5), {0.5, 0.5, 0.6}, 2,
           3, true);
+  b.spot({0, 6, 0}, {0.5, 0, 0.5}, 15, 25, {0.4, 0.3, 0.2}); // lights part of the floor
   BruteForceAccelerator accel(b.scene, GetParam());
   ImageCache images(false);
   Integ integrator(b.scene, accel, images);
@@ -556,6 +569,45 @@ TEST_P(IntegratorTest, MissingImageIsReported) {
         (void)integrator;
       },
       SceneError);
+}
+
+TEST_P(IntegratorTest, SpotLightInsideItsAngleIsAPointLight) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.spot({0, 0, -10}, {0, 0, 0}, 30, 45);
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+  expectColor(r.color, {0.72, 0.72, 0.72}); // as LitSphereHeadOn
+  EXPECT_EQ(r.counts.shadow, 1u);
+}
+
+TEST_P(IntegratorTest, SpotLightOutsideItsFalloffAddsNothingAndCastsNoShadowRay) {
+  SceneBuilder b;
+  b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
+  b.spot({0, 0, -10}, {0, 0, -20}, 30, 45); // aimed away from the sphere
+  Traced r = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+  expectColor(r.color, {0.02, 0.02, 0.02});
+  EXPECT_EQ(r.counts.shadow, 0u);
+}
+
+TEST_P(IntegratorTest, SpotLightFadesSmoothlyBetweenAngleAndFalloff) {
+  // A floor lit by a spot 5 above it, aimed straight down: a floor point at
+  // distance x from the axis sees the light at theta = atan(x / 5).
+  SceneBuilder b;
+  b.quad(Transform::scale(20, 1, 20), b.texture(Finish{}));
+  b.spot({0, 5, 0}, {0, 0, 0}, 30, 45);
+  const double c30 = std::cos(std::numbers::pi / 6), c45 = std::cos(std::numbers::pi / 4);
+  double previous = 1e9;
+  for (double deg : {0.0, 20.0, 29.0, 32.0, 37.5, 42.0, 46.0, 50.0}) {
+    double x = 5 * std::tan(deg * std::numbers::pi / 180);
+    Traced r = traceOnce(b.scene, rayFrom({x, 1, 0.001}, {0, -1, 0}));
+    double c = std::cos(deg * std::numbers::pi / 180), nl = 5 / std::hypot(x, 5);
+    double s = std::clamp((c - c45) / (c30 - c45), 0.0, 1.0), factor = s * s * (3 - 2 * s);
+    // ambient + factor * (diffuse 0.6 N.L + specular 0.1 R.V), R.V = N.L here (V = N).
+    expectColor(r.color, Color(1, 1, 1) * (0.02 + factor * 0.7 * nl), 1e-6);
+    EXPECT_LE(r.color.r, previous + 1e-12) << deg; // never brighter further out
+    previous = r.color.r;
+    EXPECT_EQ(r.counts.shadow, deg < 45 ? 1u : 0u) << deg;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, IntegratorTest, ::testing::Values(false, true),

@@ -6,16 +6,17 @@
 #pragma once
 
 #include "shading/lights/light.h"
+#include "shading/lights/spot_light.h"
 
 #include <variant>
 
 namespace lray {
 
 /// A light of the scene with its parameters.
-using SceneLight = std::variant<Light>;
+using SceneLight = std::variant<Light, SpotLight>;
 
 /// A light prepared for sampling (one per emitting light, per frame).
-using LightSampler = std::variant<Light::Sampler>;
+using LightSampler = std::variant<Light::Sampler, SpotLight::Sampler>;
 
 inline LightSampler prepareLight(const SceneLight &light) {
   return std::visit([](const auto &l) -> LightSampler { return typename std::decay_t<decltype(l)>::Sampler(l); },

@@ -11,8 +11,12 @@ namespace lray::lua {
 
 namespace {
 
-using PK = Pigment::Kind;
 using MK = TextureMap::Kind;
+
+template <class P> void pigmentDefaults(PigmentObj &p) { p.pattern = P{}; }
+
+/// The parameters of a pigment of class P (for partAttr).
+template <class P> P &params(PigmentObj &p) { return std::get<P>(p.pattern); }
 
 // ImagePigment2D(file): the path is resolved against the script folder now,
 // so a missing image is reported at the line that names it.
@@ -76,43 +80,45 @@ void registerTextureClasses(Registry &reg) {
 
   // Pigments: ColorPigment first, so an unassigned pigment reads as white.
   reg.cls<PigmentObj>("ColorPigment")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Color; })
-      .ctor(+[](PigmentObj &p, std::optional<Color> c) { p.color = c.value_or(Color(1, 1, 1)); })
-      .attr("color", &Pigment::color);
+      .defaults(&pigmentDefaults<ColorPigment>)
+      .ctor(+[](PigmentObj &p, std::optional<Color> c) {
+        params<ColorPigment>(p).color = c.value_or(Color(1, 1, 1));
+      })
+      .partAttr<&params<ColorPigment>>("color", &ColorPigment::color);
   reg.cls<PigmentObj>("CheckerPigment2D")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Checker2D; })
+      .defaults(&pigmentDefaults<CheckerPigment2D>)
       .ctor(+[](PigmentObj &) {})
       .attr("pigment1", &PigmentObj::pigment1)
       .attr("pigment2", &PigmentObj::pigment2)
       .attr("texture_map", &PigmentObj::map2);
   reg.cls<PigmentObj>("CheckerPigment3D")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Checker3D; })
+      .defaults(&pigmentDefaults<CheckerPigment3D>)
       .ctor(+[](PigmentObj &) {})
       .attr("pigment1", &PigmentObj::pigment1)
       .attr("pigment2", &PigmentObj::pigment2)
       .attr("texture_map", &PigmentObj::map3);
   reg.cls<PigmentObj>("MarblePigment3D")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Marble3D; p.frequency = {5, 5, 5}; })
+      .defaults(&pigmentDefaults<MarblePigment3D>)
       .ctor(+[](PigmentObj &) {})
-      .attr("color1", &Pigment::color1)
-      .attr("color2", &Pigment::color2)
-      .attr("frequency", &Pigment::frequency)
-      .attr("period", &Pigment::frequency) // the original example scenes' name
-      .attr("power", &Pigment::power)
-      .attr("size", &Pigment::size, positiveNumber)
+      .partAttr<&params<MarblePigment3D>>("color1", &MarblePigment3D::color1)
+      .partAttr<&params<MarblePigment3D>>("color2", &MarblePigment3D::color2)
+      .partAttr<&params<MarblePigment3D>>("frequency", &MarblePigment3D::frequency)
+      .partAttr<&params<MarblePigment3D>>("period", &MarblePigment3D::frequency) // the original example scenes' name
+      .partAttr<&params<MarblePigment3D>>("power", &MarblePigment3D::power)
+      .partAttr<&params<MarblePigment3D>>("size", &MarblePigment3D::size, positiveNumber)
       .attr("texture_map", &PigmentObj::map3);
   reg.cls<PigmentObj>("WoodPigment3D")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Wood3D; p.frequency = {1024, 1024, 1024}; })
+      .defaults(&pigmentDefaults<WoodPigment3D>)
       .ctor(+[](PigmentObj &) {})
-      .attr("color1", &Pigment::color1)
-      .attr("color2", &Pigment::color2)
-      .attr("frequency", &Pigment::frequency)
-      .attr("period", &Pigment::frequency)
-      .attr("power", &Pigment::power)
-      .attr("size", &Pigment::size, positiveNumber)
+      .partAttr<&params<WoodPigment3D>>("color1", &WoodPigment3D::color1)
+      .partAttr<&params<WoodPigment3D>>("color2", &WoodPigment3D::color2)
+      .partAttr<&params<WoodPigment3D>>("frequency", &WoodPigment3D::frequency)
+      .partAttr<&params<WoodPigment3D>>("period", &WoodPigment3D::frequency)
+      .partAttr<&params<WoodPigment3D>>("power", &WoodPigment3D::power)
+      .partAttr<&params<WoodPigment3D>>("size", &WoodPigment3D::size, positiveNumber)
       .attr("texture_map", &PigmentObj::map3);
   reg.cls<PigmentObj>("ImagePigment2D")
-      .defaults(+[](PigmentObj &p) { p.kind = PK::Image2D; })
+      .defaults(&pigmentDefaults<ImagePigment2D>)
       .rawCtor(&newImagePigment)
       .attr("texture_map", &PigmentObj::map2);
 

@@ -8,23 +8,6 @@ namespace lray::lua {
 
 namespace {
 
-const char *pigmentName(Pigment::Kind kind) {
-  switch (kind) {
-  case Pigment::Kind::Color: return "ColorPigment";
-  case Pigment::Kind::Checker2D: return "CheckerPigment2D";
-  case Pigment::Kind::Checker3D: return "CheckerPigment3D";
-  case Pigment::Kind::Marble3D: return "MarblePigment3D";
-  case Pigment::Kind::Wood3D: return "WoodPigment3D";
-  case Pigment::Kind::Image2D: return "ImagePigment2D";
-  }
-  return "pigment";
-}
-
-bool is3D(Pigment::Kind kind) {
-  return kind == Pigment::Kind::Checker3D || kind == Pigment::Kind::Marble3D ||
-         kind == Pigment::Kind::Wood3D;
-}
-
 class Converter {
 public:
   explicit Converter(const BindingContext &ctx) : ctx_(ctx) {}
@@ -121,26 +104,34 @@ private:
     if (it != pigments_.end()) return it->second;
     Pigment out;
     if (p) {
+      out.loc = ctx_.resolve(p->loc);
       if (!inProgress_.insert(p).second)
-        throw SceneError(ctx_.resolve(p->loc),
-                         std::string(pigmentName(p->kind)) + ": the pigment contains itself");
-      out = static_cast<const Pigment &>(*p);
-      if (p->kind == Pigment::Kind::Checker2D || p->kind == Pigment::Kind::Checker3D) {
-        // Children first: they get smaller indices (bottom-up table).
-        out.pigment1 = pigment(p->pigment1);
-        out.pigment2 = pigment(p->pigment2);
-      }
-      if (is3D(p->kind)) {
+        throw SceneError(out.loc, std::string(pigmentName(p->pattern)) +
+                                      ": the pigment contains itself");
+      out.pattern = p->pattern;
+      std::visit(
+          [&](auto &pattern) {
+            if constexpr (requires { pattern.pigment1; }) {
+              // Children first: they get smaller indices (bottom-up table).
+              pattern.pigment1 = pigment(p->pigment1);
+              pattern.pigment2 = pigment(p->pigment2);
+            }
+            if constexpr (requires { pattern.image; }) pattern.image = image(p->imagePath, p->loc);
+          },
+          out.pattern);
+      // Each pigment states its dimensions; the map defaults to match.
+      switch (pigmentDimensions(out.pattern)) {
+      case 3:
         out.map = p->map3 ? static_cast<const TextureMap &>(*p->map3) : TextureMap{};
         if (!p->map3) out.map.kind = TextureMap::Kind::TextureMap3D;
-      } else if (p->kind != Pigment::Kind::Color) {
-        out.map = p->map2 ? static_cast<const TextureMap &>(*p->map2) : TextureMap{};
+        break;
+      case 2: out.map = p->map2 ? static_cast<const TextureMap &>(*p->map2) : TextureMap{}; break;
+      default: break;
       }
-      if (p->kind == Pigment::Kind::Image2D) out.image = image(p->imagePath, p->loc);
       inProgress_.erase(p);
     }
     auto index = static_cast<uint32_t>(out_.pigments.size());
-    out_.pigments.push_back(out);
+    out_.pigments.push_back(std::move(out));
     pigments_.emplace(p, index);
     return index;
   }

@@ -36,12 +36,14 @@ struct Map3DObj : TextureMap {
   static constexpr const char *kLuaName = "a 3-D texture map (TextureMap3D or LinearMap)";
 };
 
-/// Every pigment class; `kind` says which.
-struct PigmentObj : Pigment {
+/// Every pigment class (shading/pigments/); `pattern` says which, with its
+/// parameters. The references to other objects live here, outside the model.
+struct PigmentObj {
   static constexpr const char *kLuaName =
       "a pigment (ColorPigment, CheckerPigment2D, CheckerPigment3D, MarblePigment3D, "
       "WoodPigment3D or ImagePigment2D)";
-  PigmentObj *pigment1 = nullptr; ///< Checker*; null = default white
+  PigmentPattern pattern;
+  PigmentObj *pigment1 = nullptr; ///< checkers; null = default white
   PigmentObj *pigment2 = nullptr;
   Map2DObj *map2 = nullptr; ///< 2-D pigments; null = TextureMap2D()
   Map3DObj *map3 = nullptr; ///< 3-D pigments; null = TextureMap3D()

@@ -9,6 +9,8 @@
 #include "math/vec3.h"
 #include "scene/mesh_data.h"
 #include "scene/scene_error.h"
+#include "scene/texture_map.h"
+#include "shading/pigments/pigment_list.h"
 #include "shading/lights/light_list.h"
 
 #include <cstdint>
@@ -45,36 +47,14 @@ struct Finish {
   double absorption = 0.5;
 };
 
-/// How a pigment's lookup point is made from a hit (SPEC 7 texture maps).
-struct TextureMap {
-  enum class Kind : uint8_t {
-    TextureMap2D,   ///< (s,t) = (u,v)
-    UVMap,          ///< s = u*scaleS + translateS, t likewise
-    SphericalMap,   ///< 2-D from the local point by angles (ext)
-    CylindricalMap, ///< 2-D from the local point by angle and height (ext)
-    TextureMap3D,   ///< the entity-local point
-    LinearMap,      ///< the entity-local point with `transform` applied
-  };
-  Kind kind = Kind::TextureMap2D;
-  double scaleS = 1, scaleT = 1, translateS = 0, translateT = 0;
-  Transform transform;
-
-  bool is3D() const { return kind == Kind::TextureMap3D || kind == Kind::LinearMap; }
-};
-
-/// A pigment node. Checkers refer to their two sub-pigments by index into
-/// Scene::pigments (always smaller indices: the table is built bottom-up).
+/// A pigment (SPEC 7): one of shading/pigments/ with its parameters, the
+/// texture map that gives it its lookup point, and where it was defined.
+/// Checkers refer to their two sub-pigments by index into Scene::pigments
+/// (always smaller indices: the table is built bottom-up).
 struct Pigment {
-  enum class Kind : uint8_t { Color, Checker2D, Checker3D, Marble3D, Wood3D, Image2D };
-  Kind kind = Kind::Color;
-  Color color{1, 1, 1};               ///< Color
-  uint32_t pigment1 = 0, pigment2 = 0; ///< Checker*: indices into Scene::pigments
-  Color color1{0, 0, 0}, color2{1, 1, 1}; ///< Marble/Wood
-  Vec3 frequency{5, 5, 5};            ///< Marble/Wood
-  double power = 2;                   ///< Marble/Wood
-  double size = 0.2;                  ///< Marble/Wood
-  uint32_t image = 0;                 ///< Image2D: index into Scene::images
+  PigmentPattern pattern;
   TextureMap map;
+  SourceLocation loc;
 };
 
 /// An image used by ImagePigment2D, named by absolute path (resolved against

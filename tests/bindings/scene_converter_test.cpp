@@ -71,8 +71,8 @@ TEST_F(SceneConverterTest, DefaultTextureIsSharedAndWhite) {
   EXPECT_EQ(t.finish.diffuse, 0.6);
   EXPECT_EQ(t.finish.ambient, Color(0.02, 0.02, 0.02));
   ASSERT_EQ(scene.pigments.size(), 1u);
-  EXPECT_EQ(scene.pigments[t.pigment].kind, Pigment::Kind::Color);
-  EXPECT_EQ(scene.pigments[t.pigment].color, Color(1, 1, 1));
+  ASSERT_TRUE(std::holds_alternative<ColorPigment>(scene.pigments[t.pigment].pattern));
+  EXPECT_EQ(std::get<ColorPigment>(scene.pigments[t.pigment].pattern).color, Color(1, 1, 1));
 }
 
 TEST_F(SceneConverterTest, TexturesAreDeduplicatedByIdentityAndLaterChangesAreSeen) {
@@ -102,22 +102,25 @@ TEST_F(SceneConverterTest, PigmentTableIsBottomUp) {
             "");
   Scene scene = convertGlobal("s");
   const Pigment &top = scene.pigments[scene.textures[0].pigment];
-  ASSERT_EQ(top.kind, Pigment::Kind::Checker2D);
+  ASSERT_TRUE(std::holds_alternative<CheckerPigment2D>(top.pattern));
+  const auto &topChecker = std::get<CheckerPigment2D>(top.pattern);
   EXPECT_EQ(scene.textures[0].pigment, scene.pigments.size() - 1);
   EXPECT_EQ(top.map.kind, TextureMap::Kind::UVMap);
   EXPECT_EQ(top.map.scaleS, 2);
   EXPECT_EQ(top.map.scaleT, 3);
   EXPECT_EQ(top.map.translateS, 0.5);
   EXPECT_EQ(top.map.translateT, 0.25);
-  ASSERT_LT(top.pigment1, scene.textures[0].pigment);
-  ASSERT_LT(top.pigment2, scene.textures[0].pigment);
-  const Pigment &inner = scene.pigments[top.pigment1];
-  EXPECT_EQ(inner.kind, Pigment::Kind::Checker3D);
+  ASSERT_LT(topChecker.pigment1, scene.textures[0].pigment);
+  ASSERT_LT(topChecker.pigment2, scene.textures[0].pigment);
+  const Pigment &inner = scene.pigments[topChecker.pigment1];
+  ASSERT_TRUE(std::holds_alternative<CheckerPigment3D>(inner.pattern));
+  const auto &innerChecker = std::get<CheckerPigment3D>(inner.pattern);
   EXPECT_EQ(inner.map.kind, TextureMap::Kind::TextureMap3D);
-  EXPECT_LT(inner.pigment1, top.pigment1);
-  EXPECT_EQ(scene.pigments[inner.pigment1].color, Color(1, 0, 0));
-  EXPECT_EQ(scene.pigments[inner.pigment2].color, Color(1, 1, 1)); // default white
-  EXPECT_EQ(scene.pigments[top.pigment2].color, Color(0, 0, 1));
+  EXPECT_LT(innerChecker.pigment1, topChecker.pigment1);
+  auto colorOf = [&](uint32_t i) { return std::get<ColorPigment>(scene.pigments[i].pattern).color; };
+  EXPECT_EQ(colorOf(innerChecker.pigment1), Color(1, 0, 0));
+  EXPECT_EQ(colorOf(innerChecker.pigment2), Color(1, 1, 1)); // default white
+  EXPECT_EQ(colorOf(topChecker.pigment2), Color(0, 0, 1));
 }
 
 TEST_F(SceneConverterTest, NoisePigmentsAndMaps) {
@@ -130,17 +133,19 @@ TEST_F(SceneConverterTest, NoisePigmentsAndMaps) {
             "");
   Scene scene = convertGlobal("s");
   const Pigment &marble = scene.pigments[scene.textures[0].pigment];
-  EXPECT_EQ(marble.kind, Pigment::Kind::Marble3D);
-  EXPECT_EQ(marble.color1, Color(1, 0, 0));
-  EXPECT_EQ(marble.color2, Color(1, 1, 1));
-  EXPECT_EQ(marble.frequency, Vec3(5, 5, 5));
-  EXPECT_EQ(marble.power, 3);
-  EXPECT_EQ(marble.size, 0.1);
+  ASSERT_TRUE(std::holds_alternative<MarblePigment3D>(marble.pattern));
+  const auto &m = std::get<MarblePigment3D>(marble.pattern);
+  EXPECT_EQ(m.color1, Color(1, 0, 0));
+  EXPECT_EQ(m.color2, Color(1, 1, 1));
+  EXPECT_EQ(m.frequency, Vec3(5, 5, 5));
+  EXPECT_EQ(m.power, 3);
+  EXPECT_EQ(m.size, 0.1);
+  EXPECT_EQ(marble.loc.str(), "test.lua:2");
   EXPECT_EQ(marble.map.kind, TextureMap::Kind::LinearMap);
   EXPECT_EQ(marble.map.transform.applyPoint({1, 1, 1}), Vec3(2, 2, 2));
   const Pigment &wood = scene.pigments[scene.textures[1].pigment];
-  EXPECT_EQ(wood.kind, Pigment::Kind::Wood3D);
-  EXPECT_EQ(wood.frequency, Vec3(1, 2, 3));
+  ASSERT_TRUE(std::holds_alternative<WoodPigment3D>(wood.pattern));
+  EXPECT_EQ(std::get<WoodPigment3D>(wood.pattern).frequency, Vec3(1, 2, 3));
   EXPECT_EQ(wood.map.kind, TextureMap::Kind::TextureMap3D);
   EXPECT_EQ(scene.pigments[scene.textures[2].pigment].map.kind, TextureMap::Kind::SphericalMap);
   EXPECT_EQ(scene.pigments[scene.textures[3].pigment].map.kind, TextureMap::Kind::CylindricalMap);
@@ -157,9 +162,9 @@ TEST_F(SceneConverterTest, ImagesResolveAgainstTheScriptFolderAndAreShared) {
   EXPECT_EQ(scene.images[0].path, std::string(LRAY_SOURCE_DIR) + "/scenes/texture.png");
   EXPECT_EQ(scene.images[0].loc.str(), "test.lua:2");
   EXPECT_EQ(scene.pigments.size(), 2u);
-  EXPECT_EQ(scene.pigments[0].kind, Pigment::Kind::Image2D);
-  EXPECT_EQ(scene.pigments[0].image, 0u);
-  EXPECT_EQ(scene.pigments[1].image, 0u);
+  ASSERT_TRUE(std::holds_alternative<ImagePigment2D>(scene.pigments[0].pattern));
+  EXPECT_EQ(std::get<ImagePigment2D>(scene.pigments[0].pattern).image, 0u);
+  EXPECT_EQ(std::get<ImagePigment2D>(scene.pigments[1].pattern).image, 0u);
   EXPECT_EQ(scene.pigments[0].map.kind, TextureMap::Kind::TextureMap2D);
 }
 

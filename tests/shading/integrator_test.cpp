@@ -46,7 +46,7 @@ struct SceneBuilder {
 
   uint32_t texture(const Finish &finish, const Color &color = {1, 1, 1}) {
     Pigment p;
-    p.color = color;
+    p.pattern = ColorPigment{color};
     scene.pigments.push_back(p);
     scene.textures.push_back({finish, static_cast<uint32_t>(scene.pigments.size() - 1)});
     return static_cast<uint32_t>(scene.textures.size() - 1);
@@ -544,7 +544,7 @@ TEST_P(IntegratorTest, ImagePigmentThroughTheCache) {
   SceneBuilder b;
   b.scene.images.push_back({path, {}});
   uint32_t tex = b.texture(ambientOnly());
-  b.scene.pigments[b.scene.textures[tex].pigment].kind = Pigment::Kind::Image2D;
+  b.scene.pigments[b.scene.textures[tex].pigment].pattern = ImagePigment2D{};
   b.add(ShapeKind::Sphere, Transform(), tex);
   BruteForceAccelerator accel(b.scene, GetParam());
   ImageCache images(false);

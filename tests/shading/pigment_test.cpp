@@ -29,17 +29,15 @@ Hit hitAt(const Vec3 &pObject, double u = 0, double v = 0) {
 
 Pigment colorPigment(const Color &c) {
   Pigment p;
-  p.color = c;
+  p.pattern = ColorPigment{c};
   return p;
 }
 
 /// [0] red, [1] green, [2] a checker of the given kind over them.
-std::vector<Pigment> checkerTable(Pigment::Kind kind) {
+template <class Checker> std::vector<Pigment> checkerTable() {
   Pigment checker;
-  checker.kind = kind;
-  checker.pigment1 = 0;
-  checker.pigment2 = 1;
-  if (kind == Pigment::Kind::Checker3D) checker.map.kind = TextureMap::Kind::TextureMap3D;
+  checker.pattern = Checker{0, 1};
+  if (Checker::kDimensions == 3) checker.map.kind = TextureMap::Kind::TextureMap3D;
   return {colorPigment(kRed), colorPigment(kGreen), checker};
 }
 
@@ -54,7 +52,7 @@ TEST(Pigment, ColorIsConstant) {
 }
 
 TEST(Pigment, Checker2DParity) {
-  auto t = checkerTable(Pigment::Kind::Checker2D);
+  auto t = checkerTable<CheckerPigment2D>();
   EXPECT_EQ(eval(t, 2, hitAt({}, 0.25, 0.25)), kRed);
   EXPECT_EQ(eval(t, 2, hitAt({}, 0.75, 0.75)), kRed);
   EXPECT_EQ(eval(t, 2, hitAt({}, 0.75, 0.25)), kGreen);
@@ -70,14 +68,14 @@ TEST(Pigment, Checker2DParity) {
 }
 
 TEST(Pigment, Checker2DUsesItsMap) {
-  auto t = checkerTable(Pigment::Kind::Checker2D);
+  auto t = checkerTable<CheckerPigment2D>();
   t[2].map.kind = TextureMap::Kind::UVMap;
   t[2].map.translateS = 0.5;
   EXPECT_EQ(eval(t, 2, hitAt({}, 0.25, 0.25)), kGreen);
 }
 
 TEST(Pigment, Checker3DParityIncludingNegatives) {
-  auto t = checkerTable(Pigment::Kind::Checker3D);
+  auto t = checkerTable<CheckerPigment3D>();
   EXPECT_EQ(eval(t, 2, hitAt({0.5, 0.5, 0.5})), kRed);     // 0
   EXPECT_EQ(eval(t, 2, hitAt({1.5, 0.5, 0.5})), kGreen);   // 1
   EXPECT_EQ(eval(t, 2, hitAt({-0.5, 0.5, 0.5})), kGreen);  // -1
@@ -88,12 +86,12 @@ TEST(Pigment, Checker3DParityIncludingNegatives) {
 }
 
 TEST(Pigment, NestedCheckers) {
-  auto t = checkerTable(Pigment::Kind::Checker2D);
+  auto t = checkerTable<CheckerPigment2D>();
   Pigment outer;
-  outer.kind = Pigment::Kind::Checker3D;
+  CheckerPigment3D &checker = outer.pattern.emplace<CheckerPigment3D>();
   outer.map.kind = TextureMap::Kind::TextureMap3D;
-  outer.pigment1 = 2; // the 2-D checker
-  outer.pigment2 = 0; // red
+  checker.pigment1 = 2; // the 2-D checker
+  checker.pigment2 = 0; // red
   t.push_back(outer);
   EXPECT_EQ(eval(t, 3, hitAt({0.5, 0.5, 0.5}, 0.75, 0.25)), kGreen);
   EXPECT_EQ(eval(t, 3, hitAt({1.5, 0.5, 0.5}, 0.75, 0.25)), kRed);
@@ -101,9 +99,9 @@ TEST(Pigment, NestedCheckers) {
 
 TEST(Pigment, MarbleAtLatticePointsHasNoTurbulence) {
   Pigment m;
-  m.kind = Pigment::Kind::Marble3D;
-  m.color1 = {1, 0, 0};
-  m.color2 = {0, 0, 1};
+  MarblePigment3D &marble = m.pattern.emplace<MarblePigment3D>();
+  marble.color1 = {1, 0, 0};
+  marble.color2 = {0, 0, 1};
   m.map.kind = TextureMap::Kind::TextureMap3D;
   // turb is 0 at integer points, so t = p . frequency = 5 + 10 + 15 = 30.
   Color c = eval({m}, 0, hitAt({1, 2, 3}));
@@ -113,10 +111,10 @@ TEST(Pigment, MarbleAtLatticePointsHasNoTurbulence) {
 
 TEST(Pigment, MarbleAddsScaledTurbulence) {
   Pigment m;
-  m.kind = Pigment::Kind::Marble3D;
-  m.frequency = {1, 2, 3};
-  m.power = 3;
-  m.size = 0.1;
+  MarblePigment3D &marble = m.pattern.emplace<MarblePigment3D>();
+  marble.frequency = {1, 2, 3};
+  marble.power = 3;
+  marble.size = 0.1;
   m.map.kind = TextureMap::Kind::TextureMap3D;
   Vec3 p{0.3, 0.6, -0.2};
   double t = 0.3 + 1.2 - 0.6 + 3 * turbulence(p, 0.1);
@@ -126,22 +124,22 @@ TEST(Pigment, MarbleAddsScaledTurbulence) {
 
 TEST(Pigment, WoodRingsAboutZ) {
   Pigment w;
-  w.kind = Pigment::Kind::Wood3D;
-  w.frequency = {1, 1, 1};
-  w.color1 = {1, 1, 0};
-  w.color2 = {0, 0, 0};
+  WoodPigment3D &wood = w.pattern.emplace<WoodPigment3D>();
+  wood.frequency = {1, 1, 1};
+  wood.color1 = {1, 1, 0};
+  wood.color2 = {0, 0, 0};
   w.map.kind = TextureMap::Kind::TextureMap3D;
   // sqrt(3^2 + 4^2) = 5; integer point so turb = 0; z does not enter the radius.
   double a = std::fabs(std::sin(5.0));
   expectColor(eval({w}, 0, hitAt({3, 4, 0})), {a, a, 0});
   expectColor(eval({w}, 0, hitAt({3, 4, 7})), {a, a, 0});
   // A negative frequency must not produce NaN.
-  w.frequency = {-1, -1, 1};
+  wood.frequency = {-1, -1, 1};
   EXPECT_TRUE(isFinite(eval({w}, 0, hitAt({3.3, 4.1, 0.2}))));
 }
 
 TEST(Pigment, LinearMapMovesThePattern) {
-  auto t = checkerTable(Pigment::Kind::Checker3D);
+  auto t = checkerTable<CheckerPigment3D>();
   t[2].map.kind = TextureMap::Kind::LinearMap;
   t[2].map.transform = Transform::translate({1, 0, 0});
   EXPECT_EQ(eval(t, 2, hitAt({0.5, 0.5, 0.5})), kGreen);
@@ -149,8 +147,7 @@ TEST(Pigment, LinearMapMovesThePattern) {
 
 TEST(Pigment, ImageWithoutLoadedImageIsBlack) {
   Pigment p;
-  p.kind = Pigment::Kind::Image2D;
-  p.image = 3;
+  p.pattern = ImagePigment2D{3};
   EXPECT_EQ(eval({p}, 0, hitAt({}, 0.5, 0.5)), Color(0, 0, 0));
 }
 
@@ -161,8 +158,7 @@ TEST(Pigment, ImageLooksUpMappedCoordinates) {
   img.rgb = {1, 0, 0, 0, 0, 1}; // left red, right blue
   const TextureImage *images[] = {&img};
   Pigment p;
-  p.kind = Pigment::Kind::Image2D;
-  p.image = 0;
+  p.pattern = ImagePigment2D{0};
   PigmentTable table{&p, 1, images, 1};
   expectColor(evaluatePigment(table, 0, hitAt({}, 0.25, 0.5)), {1, 0, 0});
   expectColor(evaluatePigment(table, 0, hitAt({}, 0.75, 0.5)), {0, 0, 1});

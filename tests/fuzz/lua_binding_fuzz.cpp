@@ -157,7 +157,13 @@ void checkScene(const lray::Scene &s) {
           std::isfinite(f.refractionIndex) && std::isfinite(f.absorption));
     check(t.pigment < s.pigments.size());
   }
-  for (const lray::Pigment &p : s.pigments) check(finite(p.color) && finite(p.frequency));
+  for (const lray::Pigment &p : s.pigments)
+    std::visit(
+        [&](const auto &k) {
+          if constexpr (requires { k.color; }) check(finite(k.color));
+          if constexpr (requires { k.frequency; }) check(finite(k.frequency));
+        },
+        p.pattern);
 }
 
 } // namespace

@@ -5,7 +5,6 @@
 // is rendered at 4x4 with both backends. A crash, a sanitizer report or a
 // non-finite sample (RayCounts::nonFinite > 0) is a bug.
 #include "accel/accelerator.h"
-#include "shape_params.h"
 #include "render/renderer.h"
 #include "scene/mesh_builder.h"
 #include "shading/image_cache.h"
@@ -97,9 +96,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   int entities = in.ConsumeIntegralInRange(1, 6);
   for (int i = 0; i < entities; ++i) {
     lray::Entity e;
-    e.shape = makeShape(static_cast<lray::ShapeKind>(in.ConsumeIntegralInRange(0, 4)));
+    e.shape = lray::makeShape(static_cast<lray::ShapeKind>(
+        in.ConsumeIntegralInRange<int>(0, std::variant_size_v<lray::Shape> - 1)));
     e.worldFromObject = transform(in);
-    setOpen(e, in.ConsumeBool());
+    bool open = in.ConsumeBool();
+    if (auto *c = std::get_if<lray::Cylinder>(&e.shape)) c->open = open;
+    if (auto *c = std::get_if<lray::Cone>(&e.shape)) c->open = open;
+    if (auto *t = std::get_if<lray::Torus>(&e.shape)) {
+      t->major = in.ConsumeFloatingPointInRange(0.01, 4.0);
+      t->minor = in.ConsumeFloatingPointInRange(0.01, 4.0);
+    }
     e.smooth = in.ConsumeBool();
     e.texture = in.ConsumeIntegralInRange<uint32_t>(0, static_cast<uint32_t>(textures));
     if (e.kind() == lray::ShapeKind::Mesh) {
@@ -113,6 +119,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   }
   int lights = in.ConsumeIntegralInRange(0, 2);
   for (int i = 0; i < lights; ++i) {
+    if (in.ConsumeBool()) {
+      lray::SpotLight l;
+      l.angle = in.ConsumeFloatingPointInRange(0.0, 90.0);
+      l.falloff = in.ConsumeFloatingPointInRange(l.angle, 90.0);
+      l.worldFromLight = transform(in);
+      scene.lights.push_back(l);
+      continue;
+    }
     lray::Light l;
     l.area = in.ConsumeBool();
     l.rows = in.ConsumeIntegralInRange(1, 3);

@@ -430,8 +430,8 @@ int main(int argc, char **argv) {
       SceneInfo info = script.info();
       ImageCache images(false);
       FrameStats st[2];
-      Film e = renderScriptFrame(script, info, 0, BackendKind::Embree, images, st[0]);
-      Film k = renderScriptFrame(script, info, 0, BackendKind::KdTree, images, st[1]);
+      Film e = renderScriptFrame(script, info, 0, backendName(BackendKind::Embree), images, st[0]);
+      Film k = renderScriptFrame(script, info, 0, backendName(BackendKind::KdTree), images, st[1]);
       std::vector<uint8_t> a = quantizeFilm(e, false), b = quantizeFilm(k, false);
       size_t same = 0, pixels = a.size() / 3;
       for (size_t i = 0; i < pixels; ++i)

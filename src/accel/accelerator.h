@@ -12,16 +12,31 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 namespace lray {
 
 class Film;
 class ImageCache;
 
+/// The backends this build has (accelerator.cpp lists them with their names).
 enum class BackendKind { Embree, KdTree };
 
-/// "embree" / "kdtree".
+class Accelerator;
+
+/// One backend: its command-line name, its kind and how to build it.
+struct BackendEntry {
+  const char *name;
+  BackendKind kind;
+  std::unique_ptr<Accelerator> (*make)(const Scene &scene);
+};
+
+/// Every backend, the default first; the only list of them.
+std::span<const BackendEntry> backends();
+
+/// The name of `kind` ("embree", "kdtree").
 std::string backendName(BackendKind kind);
 
 /// Build-time figures reported by --stats.
@@ -61,5 +76,7 @@ public:
 
 /// Builds the chosen backend over `scene` (which must outlive the result).
 std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene);
+/// The same by name; std::invalid_argument for a name backends() lacks.
+std::unique_ptr<Accelerator> makeAccelerator(std::string_view name, const Scene &scene);
 
 } // namespace lray

@@ -96,7 +96,7 @@ int run(const Options &opt) {
         (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
     frameStats.file = path;
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
-    Film film = renderScriptFrame(script, info, frame, opt.backend, images, frameStats,
+    Film film = renderScriptFrame(script, info, frame, stats.backend, images, frameStats,
                                   [&bar](size_t done, size_t total) { bar.update(done, total); });
     bar.finish(frameStats.renderSeconds);
     if (frame == first)

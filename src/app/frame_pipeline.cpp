@@ -10,7 +10,8 @@
 
 namespace lray {
 
-Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, BackendKind backend,
+Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
+                       std::string_view backend,
                        ImageCache &images, FrameStats &stats, const ProgressFn &progress) {
   stats.frame = frame;
   stats.clock = info.clockForFrame(frame);

@@ -15,8 +15,10 @@ class SceneScript;
 class ImageCache;
 
 /// Renders 0-based frame `frame` of `script` at the size and sampling of
-/// `info`, filling `stats` (times, rays, backend figures).
-Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame, BackendKind backend,
+/// `info` with the backend named `backend` (accel/accelerator.h backends()),
+/// filling `stats` (times, rays, backend figures).
+Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
+                       std::string_view backend,
                        ImageCache &images, FrameStats &stats, const ProgressFn &progress = nullptr);
 
 } // namespace lray

@@ -28,10 +28,14 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
   app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
 
-  std::map<std::string, BackendKind> backends{{"embree", BackendKind::Embree},
-                                              {"kdtree", BackendKind::KdTree}};
-  app.add_option("--backend", o.backend, "Acceleration backend: embree (default) or kdtree")
-      ->transform(CLI::CheckedTransformer(backends, CLI::ignore_case));
+  std::map<std::string, BackendKind> byName;
+  std::string names;
+  for (const BackendEntry &b : backends()) {
+    byName.emplace(b.name, b.kind);
+    names += names.empty() ? std::string(b.name) + " (default)" : std::string(" or ") + b.name;
+  }
+  app.add_option("--backend", o.backend, "Acceleration backend: " + names)
+      ->transform(CLI::CheckedTransformer(byName, CLI::ignore_case));
   app.add_option("-t,--threads", o.threads, "Render threads (default: all cores)")
       ->check(CLI::PositiveNumber);
   std::string frames;

@@ -15,7 +15,7 @@ namespace lray {
 struct Options {
   std::string scenePath;
   std::string outDir;
-  BackendKind backend = BackendKind::Embree;
+  BackendKind backend = backends().front().kind;
   int threads = 0; ///< 0 = all cores
   std::optional<int> firstFrame, lastFrame; ///< --frames A:B, inclusive, 0-based
   std::optional<int> width, height, samples;

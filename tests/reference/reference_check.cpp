@@ -86,10 +86,9 @@ int check(const Args &a) {
   info.imageWidth = a.width;
   info.imageHeight = a.height;
   info.samples = a.samples;
-  BackendKind backend = a.backend == "kdtree" ? BackendKind::KdTree : BackendKind::Embree;
   ImageCache images(false);
   FrameStats stats;
-  Film film = renderScriptFrame(script, info, a.frame, backend, images, stats);
+  Film film = renderScriptFrame(script, info, a.frame, a.backend, images, stats);
   if (stats.rays.nonFinite != 0) {
     std::cerr << a.name << ": " << stats.rays.nonFinite << " non-finite samples\n";
     return 1;
@@ -160,7 +159,9 @@ int main(int argc, char **argv) {
   app.add_option("reference", a.reference)->required();
   app.add_option("--name", a.name)->required();
   app.add_option("--report-dir", a.reportDir)->required();
-  app.add_option("--backend", a.backend)->check(CLI::IsMember({"embree", "kdtree"}));
+  std::vector<std::string> names;
+  for (const BackendEntry &b : backends()) names.push_back(b.name);
+  app.add_option("--backend", a.backend)->check(CLI::IsMember(names));
   app.add_option("--frame", a.frame);
   app.add_option("--width", a.width);
   app.add_option("--height", a.height);

@@ -164,7 +164,7 @@ end
     SceneScript script = SceneScript::fromString(source, "degenerate.lua");
     ImageCache images(false);
     FrameStats stats;
-    Film film = renderScriptFrame(script, script.info(), 0, kind, images, stats);
+    Film film = renderScriptFrame(script, script.info(), 0, backendName(kind), images, stats);
     EXPECT_EQ(stats.rays.nonFinite, 0u) << backendName(kind);
     EXPECT_EQ(stats.rays.camera, 40u * 30u * 4u);
     EXPECT_GT(stats.rays.shadow, 0u) << "the mesh should be hit and lit";

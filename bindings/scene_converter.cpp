@@ -91,6 +91,7 @@ private:
     auto it = textures_.find(t);
     if (it != textures_.end()) return it->second;
     Texture out;
+    if (t) out.loc = ctx_.resolve(t->loc);
     if (t && t->finish) out.finish = *t->finish;
     out.pigment = pigment(t ? t->pigment : nullptr);
     auto index = static_cast<uint32_t>(out_.textures.size());
@@ -123,9 +124,13 @@ private:
       switch (pigmentDimensions(out.pattern)) {
       case 3:
         out.map = p->map3 ? static_cast<const TextureMap &>(*p->map3) : TextureMap{};
-        if (!p->map3) out.map.kind = TextureMap::Kind::TextureMap3D;
+        if (p->map3) out.map.loc = ctx_.resolve(p->map3->loc);
+        else out.map.kind = TextureMap::Kind::TextureMap3D;
         break;
-      case 2: out.map = p->map2 ? static_cast<const TextureMap &>(*p->map2) : TextureMap{}; break;
+      case 2:
+        out.map = p->map2 ? static_cast<const TextureMap &>(*p->map2) : TextureMap{};
+        if (p->map2) out.map.loc = ctx_.resolve(p->map2->loc);
+        break;
       default: break;
       }
       inProgress_.erase(p);

@@ -29,11 +29,13 @@ struct FinishObj : Finish {
 struct Map2DObj : TextureMap {
   static constexpr const char *kLuaName =
       "a 2-D texture map (TextureMap2D, UVMap, SphericalMap or CylindricalMap)";
+  ScriptLoc loc;
 };
 
 /// TextureMap3D, LinearMap.
 struct Map3DObj : TextureMap {
   static constexpr const char *kLuaName = "a 3-D texture map (TextureMap3D or LinearMap)";
+  ScriptLoc loc;
 };
 
 /// Every pigment class (shading/pigments/); `pattern` says which, with its
@@ -53,6 +55,7 @@ struct PigmentObj {
 
 struct TextureObj {
   static constexpr const char *kLuaName = "a Texture";
+  ScriptLoc loc;
   FinishObj *finish = nullptr;   ///< null = Finish()
   PigmentObj *pigment = nullptr; ///< null = white ColorPigment
 };

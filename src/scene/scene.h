@@ -68,6 +68,7 @@ struct ImageRef {
 struct Texture {
   Finish finish;
   uint32_t pigment = 0;
+  SourceLocation loc; ///< none for the default texture
 };
 
 /// An entity placed in the world (SPEC 5): a shape of geometry/shapes/ with

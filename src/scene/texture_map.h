@@ -4,6 +4,7 @@
 #pragma once
 
 #include "math/transform.h"
+#include "scene/scene_error.h"
 
 #include <cstdint>
 
@@ -22,6 +23,7 @@ struct TextureMap {
   Kind kind = Kind::TextureMap2D;
   double scaleS = 1, scaleT = 1, translateS = 0, translateT = 0;
   Transform transform;
+  SourceLocation loc; ///< where the map was made (none for a default map)
 
   bool is3D() const { return kind == Kind::TextureMap3D || kind == Kind::LinearMap; }
 };

@@ -28,6 +28,8 @@ TEST_F(SceneConverterTest, CameraBackgroundAndLights) {
   EXPECT_EQ(scene.background, Color(0, 0, 1));
   EXPECT_EQ(scene.camera.fov, 60);
   EXPECT_EQ(scene.camera.aspect, 2);
+  EXPECT_EQ(scene.camera.loc.str(), "test.lua:2");
+  EXPECT_EQ(std::get<Light>(scene.lights[0]).loc.str(), "test.lua:3");
   EXPECT_EQ(scene.camera.worldFromCamera.applyPoint({0, 0, 0}), Vec3(0, 0, -5));
   ASSERT_EQ(scene.lights.size(), 1u);
   const Light &light = std::get<Light>(scene.lights[0]);
@@ -141,6 +143,8 @@ TEST_F(SceneConverterTest, NoisePigmentsAndMaps) {
   EXPECT_EQ(m.power, 3);
   EXPECT_EQ(m.size, 0.1);
   EXPECT_EQ(marble.loc.str(), "test.lua:2");
+  EXPECT_EQ(marble.map.loc.str(), "test.lua:3");
+  EXPECT_EQ(scene.textures[0].loc.str(), "test.lua:2");
   EXPECT_EQ(marble.map.kind, TextureMap::Kind::LinearMap);
   EXPECT_EQ(marble.map.transform.applyPoint({1, 1, 1}), Vec3(2, 2, 2));
   const Pigment &wood = scene.pigments[scene.textures[1].pigment];

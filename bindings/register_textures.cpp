@@ -103,7 +103,8 @@ void registerTextureClasses(Registry &reg) {
       .partAttr<&params<MarblePigment3D>>("color1", &MarblePigment3D::color1)
       .partAttr<&params<MarblePigment3D>>("color2", &MarblePigment3D::color2)
       .partAttr<&params<MarblePigment3D>>("frequency", &MarblePigment3D::frequency)
-      .partAttr<&params<MarblePigment3D>>("period", &MarblePigment3D::frequency) // the original example scenes' name
+      // `period`: the original example scenes' name for the frequency.
+      .partAttr<&params<MarblePigment3D>>("period", &MarblePigment3D::frequency)
       .partAttr<&params<MarblePigment3D>>("power", &MarblePigment3D::power)
       .partAttr<&params<MarblePigment3D>>("size", &MarblePigment3D::size, positiveNumber)
       .attr("texture_map", &PigmentObj::map3);

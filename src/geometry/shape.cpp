@@ -130,7 +130,8 @@ Bounds3 shapeWorldBounds(const Entity &entity) {
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
         // Meshes: meshObjectBounds + the backend's instance transform.
-        if constexpr (kAnalyticShape<S>) return padded(s.worldBounds(entity.worldFromObject.matrix()));
+        if constexpr (kAnalyticShape<S>)
+          return padded(s.worldBounds(entity.worldFromObject.matrix()));
         else return Bounds3();
       },
       entity.shape);

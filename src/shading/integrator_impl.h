@@ -107,14 +107,16 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
             if (coherent) {
               accel_.occludedCoherent(scratch.shadowRays, n, scratch.blocked);
             } else {
-              for (size_t j = 0; j < n; ++j) scratch.blocked[j] = accel_.occluded(scratch.shadowRays[j]);
+              for (size_t j = 0; j < n; ++j)
+                scratch.blocked[j] = accel_.occluded(scratch.shadowRays[j]);
             }
             for (size_t j = 0; j < n; ++j) {
               if (scratch.blocked[j]) continue;
               const auto &p = scratch.pending[j];
               const Surface &s = surfaces[p.ray];
               const Color diffuseColor = s.pigment * s.m->finish.diffuse;
-              sums[p.ray] += p.dir.color * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
+              sums[p.ray] +=
+                  p.dir.color * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
             }
           }
         },

@@ -117,7 +117,8 @@ TEST_P(BackendParity, PlanesAgreeWithBruteForce) {
   Scene s = parityScenePlusPlanes();
   auto accel = makeAccelerator(GetParam(), s);
   Scene without = parityScene();
-  EXPECT_EQ(accel->stats().primitives, makeAccelerator(GetParam(), without)->stats().primitives + 2);
+  EXPECT_EQ(accel->stats().primitives,
+            makeAccelerator(GetParam(), without)->stats().primitives + 2);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
   int planeHits = 0, otherHits = 0;

@@ -2,6 +2,7 @@
 // random affine transforms, checked against an independent long double
 // reference intersection (same object-space definition, naive formulas).
 #include "geometry/shape.h"
+#include "long_double_root.h"
 #include "shape_params.h"
 
 #include <gtest/gtest.h>
@@ -93,17 +94,7 @@ void torusReference(Reference &r, LD R, LD rm, const V3L &o, const V3L &d) {
     LD t = t0 + step * i, ht = h(t);
     if (std::fabs(ht) < 1e-4L * rm * rm && (ht < 0) == (prevH < 0)) r.ambiguous = true;
     if ((ht < 0) != (prevH < 0)) {
-      LD a = prevT, b = t, fa = prevH;
-      for (int k = 0; k < 200; ++k) {
-        LD m = (a + b) / 2, fm = h(m);
-        if ((fm < 0) == (fa < 0)) {
-          a = m;
-          fa = fm;
-        } else {
-          b = m;
-        }
-      }
-      LD root = (a + b) / 2, eps = 1e-9L * (1 + std::fabs(root));
+      LD root = testing::bisectRoot(h, prevT, t), eps = 1e-9L * (1 + std::fabs(root));
       LD slope = std::fabs(h(root + eps) - h(root - eps)) / (2 * eps);
       // |dh/dt| = 2 r |d| cos at the surface.
       consider(r, root, true, slope / (2 * rm * std::sqrt(dd)) < 1e-3L ? 0 : 1);

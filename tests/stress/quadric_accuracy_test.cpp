@@ -2,6 +2,7 @@
 // ray parameter at a distance of 1e4 under a non-uniform scale and a
 // rotation, against an independent long-double reference, through both
 // backends.
+#include "long_double_root.h"
 #include "stress/stress_scenes.h"
 
 #include <gtest/gtest.h>
@@ -115,19 +116,7 @@ public:
       if (disc <= 0) break;
       LD lo = (-od - std::sqrt(disc)) / dd, hi = (-od + std::sqrt(disc)) / dd;
       const int n = 500;
-      auto bisect = [&](LD a, LD b) {
-        LD fa = h(a);
-        for (int k = 0; k < 128; ++k) {
-          LD m = (a + b) / 2, fm = h(m);
-          if ((fm < 0) == (fa < 0)) {
-            a = m;
-            fa = fm;
-          } else {
-            b = m;
-          }
-        }
-        return (a + b) / 2;
-      };
+      auto bisect = [&](LD a, LD b) { return testing::bisectRoot(h, a, b); };
       LD step = (hi - lo) / n, prevH = h(lo), midH = h(lo + step);
       for (int i = 1; i <= n; ++i) {
         LD t = lo + step * i, ht = midH;

@@ -19,8 +19,9 @@ using SceneLight = std::variant<Light, SpotLight>;
 using LightSampler = std::variant<Light::Sampler, SpotLight::Sampler>;
 
 inline LightSampler prepareLight(const SceneLight &light) {
-  return std::visit([](const auto &l) -> LightSampler { return typename std::decay_t<decltype(l)>::Sampler(l); },
-                    light);
+  return std::visit(
+      [](const auto &l) -> LightSampler { return typename std::decay_t<decltype(l)>::Sampler(l); },
+      light);
 }
 
 inline bool lightEmits(const LightSampler &light) {

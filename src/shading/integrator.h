@@ -81,10 +81,10 @@ private:
     Vec3 n, dir, v;        ///< N (facing the ray), normalize(ray.d), V
     Color pigment;
   };
-  /// Where a light sample lies as seen from a hit: its point, the unit
-  /// direction to it, N.L and the light it brings.
+  /// Where a light sample lies as seen from a hit: the unit direction to
+  /// it, N.L and the light it brings.
   struct LightDir {
-    Vec3 target, l;
+    Vec3 l;
     double nl;
     Color color;
   };

@@ -82,43 +82,55 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
   for (const LightSampler &light : lights_) {
     std::visit(
         [&](const auto &source) {
+          // No store below aliases the light, the hits or the surfaces: the
+          // sample's loop-invariant parts stay in registers.
+          typename LightScratch::Pending *__restrict pending = scratch.pending;
+          Ray *__restrict shadowRays = scratch.shadowRays;
+          uint8_t *__restrict blocked = scratch.blocked;
+          size_t shadow = 0;
+          // Every sample of the light brings the same light (its own colour
+          // need not be stored or tested per shadow ray).
+          constexpr bool kUniform = std::decay_t<decltype(source)>::kUniformColor;
           const int samples = source.sampleCount();
           for (int k = 0; k < samples; ++k) {
             size_t n = 0;
             for (size_t i = 0; i < count; ++i) {
               if ((found && !found[i]) || !surfaces[i].m->lit) continue;
               const Hit &hit = hits[i];
-              LightSample sample = source.sample(k, hit.p, samplers[i]);
-              auto &p = scratch.pending[n];
-              p.dir.target = sample.target;
+              const LightSample sample = source.sample(k, hit.p, samplers[i]);
+              auto &p = pending[n];
               Vec3 toLight = sample.target - hit.p;
               double dist = length(toLight);
-              if (!(dist > 0) || sample.color.isBlack()) continue;
+              if (!(dist > 0)) continue;
+              if constexpr (!kUniform) {
+                if (sample.color.isBlack()) continue; // outside a spot's cone
+              }
               p.dir.l = toLight / dist;
               p.dir.nl = dot(surfaces[i].n, p.dir.l);
               if (p.dir.nl <= 0) continue; // faces away: no shadow ray
-              p.dir.color = sample.color;
-              ++counts.shadow;
+              if constexpr (!kUniform) p.dir.color = sample.color;
+              ++shadow;
               p.ray = static_cast<uint32_t>(i);
-              scratch.shadowRays[n] = spawnRayTo(hit, sample.target);
+              shadowRays[n] = spawnRayTo(hit, sample.target);
               ++n;
             }
             if (n == 0) continue;
             if (coherent) {
-              accel_.occludedCoherent(scratch.shadowRays, n, scratch.blocked);
+              accel_.occludedCoherent(shadowRays, n, blocked);
             } else {
-              for (size_t j = 0; j < n; ++j)
-                scratch.blocked[j] = accel_.occluded(scratch.shadowRays[j]);
+              for (size_t j = 0; j < n; ++j) blocked[j] = accel_.occluded(shadowRays[j]);
             }
             for (size_t j = 0; j < n; ++j) {
-              if (scratch.blocked[j]) continue;
-              const auto &p = scratch.pending[j];
+              if (blocked[j]) continue;
+              const auto &p = pending[j];
               const Surface &s = surfaces[p.ray];
               const Color diffuseColor = s.pigment * s.m->finish.diffuse;
+              const Color &lightColor = kUniform ? source.uniformColor() : p.dir.color;
               sums[p.ray] +=
-                  p.dir.color * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
+                  lightColor * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
             }
           }
+          counts.shadow += shadow;
         },
         light);
   }

@@ -40,6 +40,9 @@ struct Light {
 
     /// A black or empty light can never add anything: the integrator drops it.
     bool emits() const { return emits_; }
+    /// Every sample brings uniformColor() (the integrator skips the per-sample colour).
+    static constexpr bool kUniformColor = true;
+    const Color &uniformColor() const { return weightedColor_; }
     int sampleCount() const { return rows_ * cols_; }
 
     /// Sample k (cell row k / cols, column k % cols): its jitter, for area

@@ -46,6 +46,9 @@ struct SpotLight {
           cosFalloff_(std::cos(light.falloff * kDegree)) {}
 
     bool emits() const { return !color_.isBlack() && isFinite(axis_); }
+    /// The colour depends on the direction: each sample carries its own.
+    static constexpr bool kUniformColor = false;
+    const Color &uniformColor() const { return color_; }
     int sampleCount() const { return 1; }
 
     /// The light at `p`: colour times the cone's factor for the direction

@@ -27,10 +27,6 @@ double cpuSeconds(clockid_t clock) {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-Vec3f toVec3f(const Vec3 &v) {
-  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-}
-
 } // namespace
 
 AcceleratorFigures measureAccelerator(const Scene &scene, const AcceleratorFactory &make,

@@ -13,7 +13,6 @@ namespace lray {
 
 namespace {
 
-Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 /// Bound on how far the triangle and a ray leaving p can be misplaced by a
 /// backend that works in single precision relative to `frameOrigin`

@@ -1,6 +1,8 @@
 // Pipeline: shared math. Affine transform construction, composition, inversion.
 #include "math/transform.h"
 
+#include "math/constants.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -8,7 +10,6 @@ namespace lray {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Inverse of an affine matrix; returns false when the linear part is singular
 // relative to the size of its entries.

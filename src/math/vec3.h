@@ -53,6 +53,11 @@ struct Vec3f {
   float x = 0, y = 0, z = 0;
 };
 
+inline Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
+inline Vec3f toVec3f(const Vec3 &v) {
+  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+}
+
 /// 2-D texture coordinate, compact storage for meshes.
 struct Vec2f {
   float u = 0, v = 0;

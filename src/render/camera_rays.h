@@ -2,6 +2,7 @@
 // for the Perspective camera of SPEC 4.
 #pragma once
 
+#include "math/constants.h"
 #include "math/ray.h"
 #include "scene/scene.h"
 
@@ -15,7 +16,7 @@ class CameraRays {
 public:
   CameraRays(const Camera &camera, int imageWidth, int imageHeight)
       : worldFromCamera_(camera.worldFromCamera), width_(imageWidth), height_(imageHeight) {
-    halfWidth_ = std::tan(camera.fov * 0.5 * 3.14159265358979323846 / 180.0);
+    halfWidth_ = std::tan(camera.fov * 0.5 * kPi / 180.0);
     halfHeight_ = halfWidth_ / camera.aspect;
     origin_ = worldFromCamera_.applyPoint({0, 0, 0});
   }

@@ -10,7 +10,6 @@ namespace lray {
 
 namespace {
 
-Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 void checkIndex(int32_t index, size_t count, bool optional, size_t face, uint32_t corner,
                 const char *what, const char *plural) {

@@ -2,8 +2,9 @@
 // exact definitions of each map.
 #include "shading/texture_map.h"
 
+#include "math/constants.h"
+
 #include <cmath>
-#include <numbers>
 
 namespace lray {
 
@@ -16,14 +17,14 @@ TexCoord2 mapPoint2D(const TextureMap &map, const Hit &hit) {
     return {hit.u * map.scaleS + map.translateS, hit.v * map.scaleT + map.translateT};
   case TextureMap::Kind::SphericalMap: {
     double r = length(p);
-    double s = (std::atan2(p.z, p.x) + std::numbers::pi) / (2 * std::numbers::pi);
+    double s = (std::atan2(p.z, p.x) + kPi) / (2 * kPi);
     double t = r > 0 ? (p.y / r + 1) / 2 : 0.5;
     return {s, t};
   }
   case TextureMap::Kind::CylindricalMap: {
     double a = std::atan2(p.z, p.x);
-    if (a < 0) a += 2 * std::numbers::pi;
-    double s = a / (2 * std::numbers::pi);
+    if (a < 0) a += 2 * kPi;
+    double s = a / (2 * kPi);
     return {s < 1 ? s : 0, p.y}; // a tiny negative angle may round up to a full turn
   }
   case TextureMap::Kind::TextureMap3D:

@@ -34,7 +34,6 @@ Vec3 randomDirection(std::mt19937_64 &rng) {
   }
 }
 
-Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 TEST(EmbreeRobustness, ClosedMeshIsWatertight) {
   auto mesh = makeJitteredSphere(4, 0.1, 7);

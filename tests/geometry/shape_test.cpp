@@ -10,7 +10,6 @@
 namespace lray {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Entity makeEntity(ShapeKind kind, const Transform &xf = Transform(), bool open = false) {
   Entity e;

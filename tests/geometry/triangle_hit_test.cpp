@@ -237,8 +237,6 @@ TEST(MeshObjectBounds, CoversThePositions) {
 }
 
 
-Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
-Vec3f toVec3f(const Vec3 &v) { return {float(v.x), float(v.y), float(v.z)}; }
 
 /// The hit records' bits: 0 and -0 (or two NaNs) must not pass for equal.
 std::vector<uint64_t> hitBits(const Hit &h) {

@@ -484,8 +484,8 @@ TEST(KdTree, WatertightProbeHasNoMisses) {
     Vec3 o = rng.inBox({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
     uint32_t tri = static_cast<uint32_t>(rng.nextBits() % (idx.size() / 3));
     int corner = static_cast<int>(rng.nextBits() % 3);
-    Vec3 a = kdtest::toVec3(pos[idx[3 * tri + corner]]);
-    Vec3 b = kdtest::toVec3(pos[idx[3 * tri + (corner + 1) % 3]]);
+    Vec3 a = toVec3(pos[idx[3 * tri + corner]]);
+    Vec3 b = toVec3(pos[idx[3 * tri + (corner + 1) % 3]]);
     Vec3 target = rays % 2 ? a : (a + b) * 0.5;
     Ray ray{o, target - o};
     ++rays;

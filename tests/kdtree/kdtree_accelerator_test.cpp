@@ -53,9 +53,9 @@ bool bruteForce(const Scene &scene, const Ray &ray, Hit &hit) {
     const MeshData &m = *e.mesh;
     for (uint32_t t = 0; t < m.triangleIndices.size() / 3; ++t) {
       TriangleHitParams p;
-      if (intersectTriangle(wray, kdtest::toVec3(m.positions[m.triangleIndices[3 * t]]),
-                            kdtest::toVec3(m.positions[m.triangleIndices[3 * t + 1]]),
-                            kdtest::toVec3(m.positions[m.triangleIndices[3 * t + 2]]), tMax, p)) {
+      if (intersectTriangle(wray, toVec3(m.positions[m.triangleIndices[3 * t]]),
+                            toVec3(m.positions[m.triangleIndices[3 * t + 1]]),
+                            toVec3(m.positions[m.triangleIndices[3 * t + 2]]), tMax, p)) {
         tMax = p.t;
         fillTriangleHit(e, i, t, p.t, p.b1, p.b2, ray, floatFrameOrigin(scene), hit);
         found = true;
@@ -259,8 +259,8 @@ TEST(KdTreeAccelerator, WatertightProbeThroughInstancesHasNoMisses) {
     const Entity &e = scene.entities[i % 2];
     uint32_t tri = static_cast<uint32_t>(rng.nextBits() % (idx.size() / 3));
     int corner = static_cast<int>(rng.nextBits() % 3);
-    Vec3 a = kdtest::toVec3(pos[idx[3 * tri + corner]]);
-    Vec3 b = kdtest::toVec3(pos[idx[3 * tri + (corner + 1) % 3]]);
+    Vec3 a = toVec3(pos[idx[3 * tri + corner]]);
+    Vec3 b = toVec3(pos[idx[3 * tri + (corner + 1) % 3]]);
     Vec3 target = e.worldFromObject.applyPoint(i % 4 < 2 ? a : (a + b) * 0.5);
     Vec3 o = e.worldFromObject.applyPoint(rng.inBox({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}));
     Ray ray{o, target - o};

@@ -128,10 +128,6 @@ bool treeOccluded(const KdTree &tree, const TriangleSoup &soup, const Ray &ray) 
   });
 }
 
-inline Vec3f toVec3f(const Vec3 &v) {
-  return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-}
-
 /// A closed latitude/longitude sphere (poles as single vertices, consistent
 /// winding) with every vertex's radius jittered by up to `jitter`.
 inline MeshDataPtr makeJitteredSphere(int rings, int segments, double jitter, uint64_t seed) {
@@ -173,7 +169,6 @@ inline MeshDataPtr makeJitteredSphere(int rings, int segments, double jitter, ui
   return mesh;
 }
 
-inline Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 inline TriangleSoup soupFromMesh(const MeshData &mesh) {
   TriangleSoup soup;

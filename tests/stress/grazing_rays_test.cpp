@@ -16,7 +16,6 @@
 namespace lray::stress {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 class StressGrazingRays : public ::testing::TestWithParam<BackendKind> {
 protected:

@@ -30,7 +30,6 @@ inline std::string backendParamName(const ::testing::TestParamInfo<BackendKind> 
   return backendName(info.param);
 }
 
-inline Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 // Scene-building helpers shared with the backend tests.
 using lray::testing::makeMesh;

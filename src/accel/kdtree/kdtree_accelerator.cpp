@@ -22,7 +22,6 @@ namespace lray {
 
 namespace {
 
-Vec3 toVec3(const Vec3f &v) { return {v.x, v.y, v.z}; }
 
 struct TriangleCorners {
   Vec3 p0, p1, p2;

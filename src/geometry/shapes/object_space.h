@@ -5,6 +5,7 @@
 #pragma once
 
 #include "geometry/error_bound.h"
+#include "math/constants.h"
 #include "math/ray.h"
 #include "math/vec3.h"
 
@@ -30,7 +31,6 @@ struct ObjectSurface {
 
 // --- Shared numerics --------------------------------------------------------
 
-constexpr double kShapePi = 3.14159265358979323846;
 
 /// a*b - c*d with one rounding's worth of error (Kahan's fma trick), used
 /// for discriminants where b^2 and a*c nearly cancel.
@@ -60,8 +60,8 @@ inline void quadraticRoots(double a, double h, double c, double disc, double &t0
 /// turn in [0, 1).
 inline double turnFraction(double x, double z) {
   double a = std::atan2(z, x);
-  if (a < 0) a += 2 * kShapePi;
-  double u = a / (2 * kShapePi);
+  if (a < 0) a += 2 * kPi;
+  double u = a / (2 * kPi);
   return u < 1 ? u : 0;
 }
 

@@ -48,7 +48,7 @@ ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit) const {
   else p = {0, 1, 0};
   s.p = p;
   s.n = p;
-  s.u = (std::atan2(p.z, p.x) + kShapePi) / (2 * kShapePi);
+  s.u = (std::atan2(p.z, p.x) + kPi) / (2 * kPi);
   s.v = (p.y + 1) / 2;
   return s;
 }

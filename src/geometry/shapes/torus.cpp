@@ -185,8 +185,8 @@ ObjectSurface Torus::surface(const Ray &ray, const ObjectHit &hit) const {
   s.u = turnFraction(s.p.x, s.p.z);
   double radial = n.x * q.x / major + n.z * q.z / major; // n along the outward radius
   double a = std::atan2(n.y, radial);
-  if (a < 0) a += 2 * kShapePi;
-  double v = a / (2 * kShapePi);
+  if (a < 0) a += 2 * kPi;
+  double v = a / (2 * kPi);
   s.v = v < 1 ? v : 0;
   return s;
 }

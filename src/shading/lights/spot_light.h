@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/color.h"
+#include "math/constants.h"
 #include "math/random.h"
 #include "math/transform.h"
 #include "scene/scene_error.h"
@@ -70,7 +71,6 @@ struct SpotLight {
     }
 
   private:
-    static constexpr double kDegree = 3.14159265358979323846 / 180;
     Vec3 position_, axis_;
     Color color_;
     double cosAngle_, cosFalloff_;

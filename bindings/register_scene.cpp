@@ -5,6 +5,9 @@
 #include "bindings/validators.h"
 
 #include <cassert>
+#include <string>
+#include <utility>
+#include <variant>
 
 namespace lray::lua {
 
@@ -40,6 +43,19 @@ void keepAlive(lua_State *L, int scene, int value) {
   lua_settop(L, chunks - 1);
 }
 
+/// "A, B or C": the Lua class names of the alternatives of variant V, so a
+/// message lists every class without a list of its own to keep up.
+template <class V, size_t... I> std::string classNames(std::index_sequence<I...>) {
+  const char *names[] = {std::variant_alternative_t<I, V>::kName...};
+  std::string out;
+  for (size_t i = 0; i < sizeof...(I); ++i)
+    out += (i == 0 ? "" : i + 1 == sizeof...(I) ? " or " : ", ") + std::string(names[i]);
+  return out;
+}
+template <class V> std::string classNames() {
+  return classNames<V>(std::make_index_sequence<std::variant_size_v<V>>{});
+}
+
 void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int argument,
                lua_Integer listIndex) {
   if (const EntityObj *e = toObject<EntityObj>(L, value)) {
@@ -49,7 +65,8 @@ void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int
   } else {
     std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
     throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
-                      where + " expects " + EntityObj::kLuaName + ", got " + typeName(L, value));
+                      where + " expects an entity (" + classNames<Shape>() + "), got " +
+                      typeName(L, value));
   }
   keepAlive(L, 1, value);
 }
@@ -60,7 +77,8 @@ void addLight(lua_State *L, SceneObj &scene, int value, const char *method, int 
   if (!light) {
     std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
     throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
-                      where + " expects " + LightObj::kLuaName + ", got " + typeName(L, value));
+                      where + " expects a light (" + classNames<SceneLight>() + "), got " +
+                      typeName(L, value));
   }
   scene.lights.push_back(light);
   keepAlive(L, 1, value);

@@ -15,11 +15,12 @@ namespace lray::lua {
 ///   white ColorPigment, TextureMap2D/3D, Perspective());
 /// - image paths are already absolute (resolved at construction) and are
 ///   deduplicated into Scene::images;
-/// - each Entity carries the script file:line where it was constructed;
+/// - every object (entity, light, camera, texture, pigment, texture map)
+///   carries the script file:line where it was constructed;
 /// - mesh geometry is built once per shared geometry and cached.
 /// Throws SceneError (with the offending object's location) for a mesh
-/// index out of range, an empty mesh, a singular transform or a pigment
-/// that contains itself.
+/// index out of range, an empty mesh, a singular transform, a pigment
+/// that contains itself or a light whose values conflict (Light::invalid).
 Scene convertScene(const SceneObj &scene, const BindingContext &ctx);
 
 } // namespace lray::lua

@@ -13,7 +13,6 @@ namespace lray {
 
 namespace {
 
-
 /// Bound on how far the triangle and a ray leaving p can be misplaced by a
 /// backend that works in single precision relative to `frameOrigin`
 /// (float_frame.h): vertices rounded relative to it (an untransformed mesh)

@@ -10,7 +10,6 @@ namespace lray {
 
 namespace {
 
-
 // Inverse of an affine matrix; returns false when the linear part is singular
 // relative to the size of its entries.
 bool invertAffine(const Mat4 &a, Mat4 &out) {

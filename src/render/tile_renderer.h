@@ -3,7 +3,7 @@
 // counter-based random stream keyed by (frame, pixel, sample), so the image
 // is the same whatever the thread count or the order tiles run in. The
 // definition is in tile_renderer_impl.h, instantiated with the integrator
-// once per backend (Accelerator::renderTiles).
+// once per backend (Accelerator::render).
 #pragma once
 
 #include "render/film.h"

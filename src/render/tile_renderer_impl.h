@@ -39,7 +39,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   std::atomic<size_t> tilesDone{0};
   tbb::combinable<RayCounts> perThread;
 
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tileCount, 1), [&](const tbb::blocked_range<size_t> &r) {
+  using Tiles = tbb::blocked_range<size_t>;
+  tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
     tile_detail::setFlushToZero();
     constexpr int kTilePixels = kTileSize * kTileSize;
     std::array<Ray, kTilePixels> rays;
@@ -63,7 +64,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           const int x = x0 + static_cast<int>(i) % tileWidth;
           const int y = y0 + static_cast<int>(i) / tileWidth;
           const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
-          samplers[i] = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel, static_cast<uint64_t>(s));
+          samplers[i] = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel,
+                                static_cast<uint64_t>(s));
           const double jx = samplers[i].next(), jy = samplers[i].next();
           rays[i] = camera.generate(x + (sx + jx) / n, y + (sy + jy) / n);
         }

@@ -10,7 +10,6 @@ namespace lray {
 
 namespace {
 
-
 void checkIndex(int32_t index, size_t count, bool optional, size_t face, uint32_t corner,
                 const char *what, const char *plural) {
   if (optional && index == -1) return;

@@ -102,9 +102,16 @@ TEST(BackendPair, EmbreeAndKdTreeReturnTheSameHits) {
 }
 
 // Planes are unbounded: both backends keep them out of their trees and test
-// them on every ray (accel/unbounded_shapes.h).
+// them on every ray (accel/unbounded_shapes.h). Tori join them here: the
+// newest shapes, in the same bit-identity check.
 Scene parityScenePlusPlanes() {
   Scene s = parityScene();
+  for (int i = 0; i < 4; ++i) {
+    Entity torus = shapeEntity(ShapeKind::Torus, Transform::translate({1.5 * i - 2.2, 0.8, 6}) *
+                                                     Transform::rotate({1, 0.2 * i, 0}, 60));
+    std::get<Torus>(torus.shape).minor = 0.2 + 0.1 * i;
+    s.entities.push_back(torus);
+  }
   Entity floor = shapeEntity(ShapeKind::Plane, Transform::translate({0, -2.5, 0}));
   s.entities.insert(s.entities.begin() + 7, floor);
   // Tilted behind everything; facing away from the rays' origin side too.
@@ -118,7 +125,7 @@ TEST_P(BackendParity, PlanesAgreeWithBruteForce) {
   auto accel = makeAccelerator(GetParam(), s);
   Scene without = parityScene();
   EXPECT_EQ(accel->stats().primitives,
-            makeAccelerator(GetParam(), without)->stats().primitives + 2);
+            makeAccelerator(GetParam(), without)->stats().primitives + 2 + 4);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
   int planeHits = 0, otherHits = 0;
@@ -145,7 +152,7 @@ TEST_P(BackendParity, PlanesAgreeWithBruteForce) {
   EXPECT_GT(otherHits, 300);
 }
 
-TEST(BackendPair, PlanesGiveBitIdenticalHitsAndBatches) {
+TEST(BackendPair, PlanesAndToriGiveBitIdenticalHitsAndBatches) {
   Scene s = parityScenePlusPlanes();
   auto embree = makeAccelerator(BackendKind::Embree, s);
   auto kdtree = makeAccelerator(BackendKind::KdTree, s);
@@ -155,7 +162,7 @@ TEST(BackendPair, PlanesGiveBitIdenticalHitsAndBatches) {
   std::vector<Ray> rays(kBatch);
   std::vector<Hit> ha(kBatch), hb(kBatch);
   std::vector<uint8_t> fa(kBatch), fb(kBatch), oa(kBatch), ob(kBatch);
-  int planeHits = 0;
+  int planeHits = 0, torusHits = 0;
   for (int batch = 0; batch < 40; ++batch) {
     for (Ray &r : rays) r = {{u(rng), u(rng), -3}, {0.6 * u(rng), 0.6 * u(rng), 1}};
     embree->intersectCoherent(rays.data(), kBatch, ha.data(), fa.data());
@@ -171,8 +178,10 @@ TEST(BackendPair, PlanesGiveBitIdenticalHitsAndBatches) {
       if (!fa[i]) continue;
       ASSERT_EQ(ha[i].entity, hb[i].entity);
       EXPECT_EQ(single.entity, ha[i].entity);
-      if (s.entities[ha[i].entity].kind() != ShapeKind::Plane) continue;
-      ++planeHits;
+      const ShapeKind kind = s.entities[ha[i].entity].kind();
+      if (kind != ShapeKind::Plane && kind != ShapeKind::Torus) continue;
+      ++(kind == ShapeKind::Plane ? planeHits : torusHits);
+      EXPECT_EQ(ha[i].ng, hb[i].ng);
       EXPECT_EQ(ha[i].t, hb[i].t);
       EXPECT_EQ(ha[i].p, hb[i].p);
       EXPECT_EQ(ha[i].u, hb[i].u);
@@ -180,6 +189,7 @@ TEST(BackendPair, PlanesGiveBitIdenticalHitsAndBatches) {
     }
   }
   EXPECT_GT(planeHits, 500);
+  EXPECT_GT(torusHits, 50);
 }
 
 std::string backendCaseName(const ::testing::TestParamInfo<BackendKind> &param) {

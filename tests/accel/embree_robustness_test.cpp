@@ -34,7 +34,6 @@ Vec3 randomDirection(std::mt19937_64 &rng) {
   }
 }
 
-
 TEST(EmbreeRobustness, ClosedMeshIsWatertight) {
   auto mesh = makeJitteredSphere(4, 0.1, 7);
   Scene s;

@@ -170,13 +170,13 @@ TEST_F(BindingErrorTest, OutOfRangeMeshIndexNamesTheMeshLineAndFace) {
 
 TEST_F(BindingErrorTest, SceneMethodsCheckTheirArguments) {
   EXPECT_EQ(runLua("Scene():add_entity(Light())"),
-            "test.lua:1: Scene:add_entity: argument 1 expects an entity (a shape or a Mesh), "
-            "got Light");
+            "test.lua:1: Scene:add_entity: argument 1 expects an entity (Sphere, Cylinder, Cone, "
+            "Cube, Mesh, Plane or Torus), got Light");
   EXPECT_EQ(runLua("Scene():add_entities({Sphere(), 3})"),
-            "test.lua:1: Scene:add_entities: argument 1, entry 2 expects an entity (a shape or a "
-            "Mesh), got number");
+            "test.lua:1: Scene:add_entities: argument 1, entry 2 expects an entity (Sphere, "
+            "Cylinder, Cone, Cube, Mesh, Plane or Torus), got number");
   EXPECT_EQ(runLua("Scene():add_light(Sphere())"),
-            "test.lua:1: Scene:add_light: argument 1 expects a light, got Sphere");
+            "test.lua:1: Scene:add_light: argument 1 expects a light (Light or SpotLight), got Sphere");
   EXPECT_EQ(runLua("Scene():add_lights(Light())"),
             "test.lua:1: Scene:add_lights: argument 1 expects a list, got Light");
   EXPECT_EQ(runLua("Scene().add_light(Light())"),

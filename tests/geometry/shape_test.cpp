@@ -10,7 +10,6 @@
 namespace lray {
 namespace {
 
-
 Entity makeEntity(ShapeKind kind, const Transform &xf = Transform(), bool open = false) {
   Entity e;
   e.shape = makeShape(kind);
@@ -440,7 +439,6 @@ TEST(Torus, SpindleTorusHasOneSurface) {
   ASSERT_TRUE(intersectShape(e, 0, ray({5, 0, 0}, {-1, 0, 0}), h));
   EXPECT_NEAR(h.t, 3.5, 1e-14);
 }
-
 
 } // namespace
 } // namespace lray

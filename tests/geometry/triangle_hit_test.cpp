@@ -236,8 +236,6 @@ TEST(MeshObjectBounds, CoversThePositions) {
   EXPECT_TRUE(meshObjectBounds(MeshData()).empty());
 }
 
-
-
 /// The hit records' bits: 0 and -0 (or two NaNs) must not pass for equal.
 std::vector<uint64_t> hitBits(const Hit &h) {
   std::vector<uint64_t> bits;

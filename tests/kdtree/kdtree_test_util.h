@@ -169,7 +169,6 @@ inline MeshDataPtr makeJitteredSphere(int rings, int segments, double jitter, ui
   return mesh;
 }
 
-
 inline TriangleSoup soupFromMesh(const MeshData &mesh) {
   TriangleSoup soup;
   for (uint32_t idx : mesh.triangleIndices) soup.corners.push_back(toVec3(mesh.positions[idx]));

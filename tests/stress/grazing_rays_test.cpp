@@ -16,7 +16,6 @@
 namespace lray::stress {
 namespace {
 
-
 class StressGrazingRays : public ::testing::TestWithParam<BackendKind> {
 protected:
   /// One entity of `kind` under a rotated, non-uniformly scaled, moved transform.

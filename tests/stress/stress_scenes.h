@@ -30,7 +30,6 @@ inline std::string backendParamName(const ::testing::TestParamInfo<BackendKind> 
   return backendName(info.param);
 }
 
-
 // Scene-building helpers shared with the backend tests.
 using lray::testing::makeMesh;
 using lray::testing::meshEntity;

@@ -10,8 +10,8 @@ namespace lray {
 template class Integrator<EmbreeAccelerator>;
 
 void EmbreeAccelerator::render(const Scene &scene, const ImageCache &images,
-                                      const FrameSettings &settings, Film &film, RayCounts &counts,
-                                      const ProgressFn &progress) const {
+                                const FrameSettings &settings, Film &film, RayCounts &counts,
+                                const ProgressFn &progress) const {
   renderTiles(*this, scene, images, settings, film, counts, progress);
 }
 

@@ -22,7 +22,6 @@ namespace lray {
 
 namespace {
 
-
 struct TriangleCorners {
   Vec3 p0, p1, p2;
 };

@@ -57,7 +57,7 @@ bool Cone::intersect(const Ray &ray, ObjectHit &hit) const {
       // A ray through the apex has its double root there, which rounding
       // can put tens of ulps past y = 1 (t and y both come from rounded
       // coefficients); rejecting it let such rays through the apex into
-      // the cone. Accept within that error: coneSurface clamps the point
+      // the cone. Accept within that error: Cone::surface clamps the point
       // onto the cone.
       // Capped at sqrt(eps): a root further out is not a rounding artefact
       // (and with |a| tiny the estimate above would admit the other nappe).

@@ -31,7 +31,6 @@ struct ObjectSurface {
 
 // --- Shared numerics --------------------------------------------------------
 
-
 /// a*b - c*d with one rounding's worth of error (Kahan's fma trick), used
 /// for discriminants where b^2 and a*c nearly cancel.
 inline double differenceOfProducts(double a, double b, double c, double d) {

@@ -1,6 +1,6 @@
 // Pipeline: geometry. Plane: the infinite plane y = 0 of its object space,
-// normal +y, one part (0), uv = the local (x, z) of the hit. Solid below its
-// surface (for CSG: the half-space y <= 0). Unbounded: the backends keep it
+// normal +y, one part (0), uv = the local (x, z) of the hit; its solid side
+// is below (y <= 0). Unbounded: the backends keep it
 // out of their trees (accel/unbounded_shapes.h).
 #pragma once
 

@@ -14,6 +14,7 @@
 #include "geometry/shapes/sphere.h"
 #include "geometry/shapes/torus.h"
 
+#include <cassert>
 #include <cstdint>
 #include <type_traits>
 #include <utility>
@@ -38,6 +39,7 @@ static_assert(kKindIs<ShapeKind::Sphere, Sphere> && kKindIs<ShapeKind::Cylinder,
 
 /// The shape of kind `kind` with its default parameters.
 template <size_t... I> Shape makeShape(ShapeKind kind, std::index_sequence<I...>) {
+  assert(size_t(kind) < sizeof...(I) && "makeShape: not a ShapeKind");
   Shape shape;
   ((size_t(kind) == I ? (shape.emplace<I>(), 0) : 0), ...);
   return shape;

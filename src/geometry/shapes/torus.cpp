@@ -85,11 +85,14 @@ int monotoneRoots(const double (&c)[N], double lo, double hi, const double *brea
   return n;
 }
 
-/// [lo, hi] of the ray inside the box |x|, |z| <= e, |y| <= r (slabs).
+/// [lo, hi] of the ray inside the box |x|, |z| <= e, |y| <= r (slabs),
+/// from ray.tMin on. Not clipped to tMax: the pieces and the bisection
+/// brackets, and so the root's last bits, must not depend on how far a
+/// backend's query reaches (its tMax is its nearest hit so far).
 bool boxInterval(const Ray &ray, double e, double r, double &lo, double &hi) {
   const double half[3] = {e, r, e};
   lo = ray.tMin;
-  hi = ray.tMax;
+  hi = std::numeric_limits<double>::infinity();
   for (int axis = 0; axis < 3; ++axis) {
     double o = ray.o[axis], d = ray.d[axis];
     if (d == 0) {
@@ -152,7 +155,7 @@ bool Torus::intersect(const Ray &ray, ObjectHit &hit) const {
   // of h: the first sign change of h, in order along the ray, is the hit.
   auto h = [&](double t) { return distanceFunction(ray.at(t), R, r); };
   double a0 = lo, h0 = h(lo);
-  for (int i = 0; i <= n1; ++i) {
+  for (int i = 0; i <= n1 && a0 < ray.tMax; ++i) {
     double b1 = i < n1 ? breaks1[i] : hi;
     if (!(b1 > a0) && i < n1) continue;
     double h1 = h(b1);

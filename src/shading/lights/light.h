@@ -16,6 +16,8 @@
 namespace lray {
 
 struct Light {
+  static constexpr const char *kName = "Light";
+
   Color color{1, 1, 1};
   int rows = 1;
   int cols = 1;

@@ -28,9 +28,4 @@ inline bool lightEmits(const LightSampler &light) {
   return std::visit([](const auto &l) { return l.emits(); }, light);
 }
 
-/// Where a scene light was defined (for render-time messages).
-inline const SourceLocation &lightLocation(const SceneLight &light) {
-  return std::visit([](const auto &l) -> const SourceLocation & { return l.loc; }, light);
-}
-
 } // namespace lray

@@ -18,6 +18,8 @@
 namespace lray {
 
 struct SpotLight {
+  static constexpr const char *kName = "SpotLight";
+
   Color color{1, 1, 1};
   double angle = 30;   ///< half-angle of the full-intensity cone, degrees
   double falloff = 45; ///< half-angle where the light reaches zero, degrees

@@ -2,17 +2,12 @@
 #include "shading/pigments/marble_pigment_3d.h"
 
 #include "shading/perlin_noise.h"
+#include "shading/pigments/sine_blend.h"
 #include "shading/texture_map.h"
 
 #include <cmath>
 
 namespace lray {
-
-Color sineBlend(const Color &color1, const Color &color2, double t) {
-  double a = std::fabs(std::sin(t));
-  if (!std::isfinite(a)) a = 0;
-  return color1 * a + color2 * (1 - a);
-}
 
 Color MarblePigment3D::at(const Vec3 &p) const {
   return sineBlend(color1, color2, dot(p, frequency) + power * turbulence(p, size));

@@ -21,8 +21,4 @@ struct MarblePigment3D {
   Color at(const Vec3 &p) const;
 };
 
-/// a * color1 + (1 - a) * color2, a = |sin(t)| (0 where not finite): the
-/// blend of marble and wood.
-Color sineBlend(const Color &color1, const Color &color2, double t);
-
 } // namespace lray

@@ -2,7 +2,7 @@
 #include "shading/pigments/wood_pigment_3d.h"
 
 #include "shading/perlin_noise.h"
-#include "shading/pigments/marble_pigment_3d.h"
+#include "shading/pigments/sine_blend.h"
 #include "shading/texture_map.h"
 
 #include <algorithm>

@@ -1,7 +1,15 @@
-// Pipeline: render (last stage). OpenImageIO output with temp-file + rename.
+// Pipeline: render (last stage). PNG through libpng, TGA through stb, EXR
+// through OpenImageIO (loaded only then: shading/oiio_library.h); always a
+// temporary file renamed over the final name.
 #include "render/image_writer.h"
 
-#include <OpenImageIO/imageio.h>
+#include "shading/oiio_library.h"
+
+#include <png.h>
+#include <stb/stb_image_write.h>
+
+#include <csetjmp>
+#include <cstdio>
 
 #include <algorithm>
 #include <atomic>
@@ -36,10 +44,45 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
   return out;
 }
 
+namespace {
+
+/// 8-bit RGB rows to a PNG file; "" or the reason it failed. With `srgb`
+/// the file says its values are sRGB-encoded (an sRGB chunk); without, it
+/// carries no colour-space chunk: the values are written as computed.
+std::string writePng(const std::string &path, int width, int height, const uint8_t *rgb,
+                     bool srgb) {
+  std::FILE *file = std::fopen(path.c_str(), "wb");
+  if (!file) return "cannot create the file";
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  std::string why;
+  // libpng reports errors by longjmp: nothing below owns a destructor.
+  if (!png || !info) {
+    why = "libpng: out of memory";
+  } else if (setjmp(png_jmpbuf(png))) {
+    why = "libpng could not write it";
+  } else {
+    png_init_io(png, file);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    if (srgb) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y)
+      png_write_row(png, rgb + static_cast<size_t>(y) * static_cast<size_t>(width) * 3);
+    png_write_end(png, nullptr);
+  }
+  png_destroy_write_struct(png ? &png : nullptr, info ? &info : nullptr);
+  if (std::fclose(file) != 0 && why.empty()) why = "cannot finish the file";
+  return why;
+}
+
+} // namespace
+
 void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb) {
   static std::atomic<unsigned> counter{0};
   fs::path finalPath(path);
-  // Keep the extension last: OpenImageIO picks the writer from it.
+  // Keep the extension last: OpenImageIO picks the EXR writer from it.
   fs::path tmpPath = finalPath.parent_path() /
                      ("." + finalPath.stem().string() + ".tmp" + std::to_string(getpid()) + "_" +
                       std::to_string(counter++) + finalPath.extension().string());
@@ -50,23 +93,19 @@ void writeImage(const Film &film, const std::string &path, ImageFormat format, b
     throw std::runtime_error("cannot write image '" + path + "': " + why);
   };
 
-  auto out = OIIO::ImageOutput::create(tmpPath.string());
-  if (!out) fail(OIIO::geterror());
-  bool ok;
+  std::string why;
   if (format == ImageFormat::Exr) {
-    OIIO::ImageSpec spec(film.width(), film.height(), 3, OIIO::TypeDesc::FLOAT);
-    if (!out->open(tmpPath.string(), spec)) fail(out->geterror());
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, film.data().data());
+    why = oiioLibrary().writeFloat(tmpPath.string(), film.width(), film.height(),
+                                   film.data().data());
   } else {
-    OIIO::ImageSpec spec(film.width(), film.height(), 3, OIIO::TypeDesc::UINT8);
-    // Default mode writes values as computed (SPEC 1), with no colour-space tag.
-    if (srgb) spec.attribute("oiio:ColorSpace", "sRGB");
     std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
-    if (!out->open(tmpPath.string(), spec)) fail(out->geterror());
-    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    if (format == ImageFormat::Png) {
+      why = writePng(tmpPath.string(), film.width(), film.height(), bytes.data(), srgb);
+    } else if (!stbi_write_tga(tmpPath.c_str(), film.width(), film.height(), 3, bytes.data())) {
+      why = "cannot write the TGA file";
+    }
   }
-  if (!ok) fail(out->geterror());
-  if (!out->close()) fail(out->geterror());
+  if (!why.empty()) fail(why);
   std::error_code ec;
   fs::rename(tmpPath, finalPath, ec);
   if (ec) fail(ec.message());

@@ -1,5 +1,5 @@
-// Pipeline: render (last stage). Writes a Film through OpenImageIO, never
-// leaving a truncated file under the final name.
+// Pipeline: render (last stage). Writes a Film as PNG (libpng), TGA (stb)
+// or EXR (OpenImageIO), never leaving a truncated file under the final name.
 #pragma once
 
 #include "render/film.h"

@@ -1,5 +1,6 @@
 // Tests for src/render/image_writer: quantisation, formats, atomic writes.
 #include "render/image_writer.h"
+#include "shading/oiio_library.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -105,6 +106,37 @@ TEST(ImageWriter, ReplacesAnExistingFileWhole) {
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in);
   EXPECT_EQ(in->spec().width, 3);
+  fs::remove_all(dir);
+}
+
+TEST(ImageLibrary, PngAndTgaOutputLeaveOpenImageIOUnloaded) {
+  // OpenImageIO's module is loaded for EXR (and image textures) only: a
+  // PNG or TGA render does not pay for its libraries (this suite runs in a
+  // process of its own).
+  fs::path dir = freshDir("lazy");
+  writeImage(testFilm(), (dir / "a.png").string(), ImageFormat::Png, false);
+  writeImage(testFilm(), (dir / "a.tga").string(), ImageFormat::Tga, true);
+  EXPECT_FALSE(oiioLibraryLoaded());
+  writeImage(testFilm(), (dir / "a.exr").string(), ImageFormat::Exr, false);
+  EXPECT_TRUE(oiioLibraryLoaded());
+  fs::remove_all(dir);
+}
+
+TEST(ImageLibrary, SrgbPngSaysSoAndTgaKeepsPixels) {
+  fs::path dir = freshDir("tags");
+  std::string png = (dir / "s.png").string(), tga = (dir / "t.tga").string();
+  writeImage(testFilm(), png, ImageFormat::Png, true);
+  writeImage(testFilm(), tga, ImageFormat::Tga, false);
+  auto in = OIIO::ImageInput::open(png);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().get_string_attribute("oiio:ColorSpace"), "sRGB");
+  auto t = OIIO::ImageInput::open(tga);
+  ASSERT_TRUE(t);
+  std::vector<uint8_t> px(3 * 2 * 3);
+  ASSERT_TRUE(t->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+  EXPECT_EQ(px[0], 255); // top-left red: rows in order
+  EXPECT_EQ(px[9], 128);
+  EXPECT_EQ(px[10], 64);
   fs::remove_all(dir);
 }
 

@@ -1,0 +1,34 @@
+// Pipeline: shading. OpenImageIO, loaded on first use: its ~260 shared
+// libraries took a quarter of a second to load and relocate at every start
+// of `lray`, even for scenes without image textures writing PNG or TGA
+// (which render/image_writer.cpp writes through libpng and stb). The module
+// (oiio_module.cpp, liblray_oiio.so) holds all of LRay's OpenImageIO code.
+#pragma once
+
+#include "scene/scene_error.h"
+#include "shading/texture_image.h"
+
+#include <string>
+
+namespace lray {
+
+/// The module's entry points (C++ types: it is built with the same
+/// compiler and flags, and loaded into the same process).
+struct OiioLibrary {
+  /// ImageCache::readImage's contract: any format OpenImageIO reads,
+  /// SceneError naming the path on failure.
+  TextureImage (*readImage)(const std::string &path, bool linearWorkflow,
+                            const SourceLocation &loc);
+  /// Writes width x height RGB floats (row 0 = top) to `path` in the format
+  /// of its extension; "" on success, else the reason.
+  std::string (*writeFloat)(const std::string &path, int width, int height, const float *rgb);
+};
+
+/// The module, loaded once (thread-safe); throws std::runtime_error naming
+/// the module file when it cannot be loaded.
+const OiioLibrary &oiioLibrary();
+
+/// Whether the module has been loaded in this process (for tests).
+bool oiioLibraryLoaded();
+
+} // namespace lray

@@ -1,9 +1,13 @@
 // Pipeline: application. Command-line parsing with CLI11.
 #include "app/options.h"
 
+#include <cmath>
+
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <map>
+#include <optional>
 
 namespace lray {
 
@@ -24,6 +28,21 @@ const char *kDescription =
 ParseResult parseOptions(int argc, const char *const *argv) {
   Options o;
   CLI::App app(kDescription, "lray");
+  // CLI11's PositiveNumber reports its range with 309 digits of DBL_MAX.
+  const CLI::Validator positive(
+      [](std::string &input) -> std::string {
+        size_t used = 0;
+        double v = 0;
+        try {
+          v = std::stod(input, &used);
+        } catch (const std::exception &) {
+          used = 0;
+        }
+        if (used != input.size() || !(v > 0) || !std::isfinite(v))
+          return "expects a positive number, got '" + input + "'";
+        return {};
+      },
+      "POSITIVE");
   app.set_version_flag("--version", std::string("lray ") + LRAY_VERSION);
   app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
   app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
@@ -34,25 +53,27 @@ ParseResult parseOptions(int argc, const char *const *argv) {
     byName.emplace(b.name, b.kind);
     names += names.empty() ? std::string(b.name) + " (default)" : std::string(" or ") + b.name;
   }
-  app.add_option("--backend", o.backend, "Acceleration backend: " + names)
-      ->transform(CLI::CheckedTransformer(byName, CLI::ignore_case));
+  // Names are looked up after parsing: CLI11's enum transformer shows its
+  // internal mapping in --help and in its error message.
+  std::string backend, format;
+  app.add_option("--backend", backend, "Acceleration backend: " + names)->type_name("NAME");
   app.add_option("-t,--threads", o.threads, "Render threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   std::string frames;
   app.add_option("--frames", frames,
                  "Render frames A to B inclusive, numbered from 0 as in the file names "
                  "(A:B, or A for one frame)");
   app.add_option("-w,--width", o.width, "Image width in pixels (overrides scene_info)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   app.add_option("-H,--height", o.height, "Image height in pixels (overrides scene_info)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   app.add_option("-s,--samples", o.samples,
                  "n: n x n jittered samples per pixel (overrides scene_info)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   std::map<std::string, ImageFormat> formats{
       {"png", ImageFormat::Png}, {"tga", ImageFormat::Tga}, {"exr", ImageFormat::Exr}};
-  app.add_option("-f,--format", o.format, "Output format: png (default), tga or exr")
-      ->transform(CLI::CheckedTransformer(formats, CLI::ignore_case));
+  app.add_option("-f,--format", format, "Output format: png (default), tga or exr")
+      ->type_name("FORMAT");
   app.add_flag("--linear", o.linear,
                "Linear workflow: decode 8-bit textures from sRGB, encode 8-bit outputs to sRGB");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or informational output");
@@ -62,10 +83,10 @@ ParseResult parseOptions(int argc, const char *const *argv) {
                "Give the script the full Lua standard library (os, io write access)");
   app.add_option("--script-timeout", o.scriptTimeout,
                  "Abort a script that runs longer than SECONDS (default 60)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   app.add_option("--max-pixels", o.maxPixels,
                  "Refuse renders with width*height*samples^2 above this (default 1e9)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
 
   try {
     app.parse(argc, argv);
@@ -75,6 +96,28 @@ ParseResult parseOptions(int argc, const char *const *argv) {
     return {std::nullopt, 0, std::string("lray ") + LRAY_VERSION + "\n"};
   } catch (const CLI::ParseError &e) {
     return {std::nullopt, 2, "lray: error: " + std::string(e.what()) + " (run 'lray --help' for usage)"};
+  }
+
+  // A name given in any case; an unknown one lists the known ones.
+  auto lookUp = [](std::string text, const auto &table, const char *option, const char *known,
+                   auto &out) -> std::optional<ParseResult> {
+    for (char &c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    auto it = table.find(text);
+    if (it == table.end())
+      return ParseResult{std::nullopt, 2,
+                         std::string("lray: error: ") + option + ": unknown value '" + text +
+                             "' (expected " + known + "; run 'lray --help' for usage)"};
+    out = it->second;
+    return std::nullopt;
+  };
+  if (!backend.empty()) {
+    std::string known;
+    for (const BackendEntry &b : backends())
+      known += (known.empty() ? "" : " or ") + std::string(b.name);
+    if (auto error = lookUp(backend, byName, "--backend", known.c_str(), o.backend)) return *error;
+  }
+  if (!format.empty()) {
+    if (auto error = lookUp(format, formats, "--format", "png, tga or exr", o.format)) return *error;
   }
 
   if (!frames.empty()) {

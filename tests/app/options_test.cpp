@@ -82,5 +82,29 @@ TEST(Options, HelpAndVersionExitWithZero) {
   EXPECT_NE(v.message.find("lray "), std::string::npos);
 }
 
+TEST(Options, UsageMessagesAreOneReadableLine) {
+  auto message = [](std::vector<const char *> args) { return parse(args).message; };
+  for (const char *option : {"--threads", "--width", "--height", "--samples", "--script-timeout",
+                             "--max-pixels"}) {
+    std::string m = message({"s.lua", "o", option, "0"});
+    EXPECT_EQ(m, std::string("lray: error: ") + option +
+                     ": expects a positive number, got '0' (run 'lray --help' for usage)");
+  }
+  EXPECT_EQ(message({"s.lua", "o", "--backend", "bvh"}),
+            "lray: error: --backend: unknown value 'bvh' (expected embree or kdtree; run 'lray "
+            "--help' for usage)");
+  EXPECT_EQ(message({"s.lua", "o", "--format", "JPG"}),
+            "lray: error: --format: unknown value 'jpg' (expected png, tga or exr; run 'lray "
+            "--help' for usage)");
+  // Names in any case; --help shows no argument-library internals.
+  ParseResult r = parse({"s.lua", "o", "--backend", "KdTree", "--format", "EXR"});
+  ASSERT_TRUE(r.options) << r.message;
+  EXPECT_EQ(r.options->backend, BackendKind::KdTree);
+  EXPECT_EQ(r.options->format, ImageFormat::Exr);
+  std::string help = message({"--help"});
+  EXPECT_EQ(help.find("->"), std::string::npos) << help;
+  EXPECT_EQ(help.find("ENUM"), std::string::npos) << help;
+}
+
 } // namespace
 } // namespace lray

@@ -100,7 +100,7 @@ private:
     return index;
   }
 
-  uint32_t pigment(const PigmentObj *p) {
+  uint32_t pigment(const PigmentObj *p, int depth = 0) {
     auto it = pigments_.find(p);
     if (it != pigments_.end()) return it->second;
     Pigment out;
@@ -109,13 +109,17 @@ private:
       if (!inProgress_.insert(p).second)
         throw SceneError(out.loc, std::string(pigmentName(p->pattern)) +
                                       ": the pigment contains itself");
+      if (depth > kMaxPigmentNesting)
+        throw SceneError(out.loc, std::string(pigmentName(p->pattern)) +
+                                      ": pigments are nested more than " +
+                                      std::to_string(kMaxPigmentNesting) + " deep");
       out.pattern = p->pattern;
       std::visit(
           [&](auto &pattern) {
             if constexpr (requires { pattern.pigment1; }) {
               // Children first: they get smaller indices (bottom-up table).
-              pattern.pigment1 = pigment(p->pigment1);
-              pattern.pigment2 = pigment(p->pigment2);
+              pattern.pigment1 = pigment(p->pigment1, depth + 1);
+              pattern.pigment2 = pigment(p->pigment2, depth + 1);
             }
             if constexpr (requires { pattern.image; }) pattern.image = image(p->imagePath, p->loc);
           },

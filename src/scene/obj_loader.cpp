@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -158,6 +159,11 @@ MeshSource parseObj(const std::string &text, const std::string &displayName) {
 }
 
 MeshSource loadObj(const std::string &path, const std::string &displayName) {
+  // A directory reads as an empty file and a device (/dev/zero) never ends:
+  // only regular files are OBJ files.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(displayName + ": not a regular file (" + path + ")");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(displayName + ": cannot open OBJ file");
   std::ostringstream buffer;

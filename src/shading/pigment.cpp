@@ -5,12 +5,10 @@ namespace lray {
 
 namespace {
 
-/// Checkers nest by index (children always smaller); the bound only guards
-/// against a malformed table looping.
-constexpr int kMaxPigmentDepth = 64;
-
 Color evaluate(const PigmentTable &table, uint32_t index, const Hit &hit, int depth) {
-  if (index >= table.count || depth > kMaxPigmentDepth) return {};
+  // Checkers nest by index (children always smaller); the bound guards
+  // against a malformed table looping.
+  if (index >= table.count || depth > kMaxPigmentNesting) return {};
   const Pigment &pg = table.pigments[index];
   const PigmentContext c{table, pg.map, hit, depth};
   return std::visit([&](const auto &pattern) { return pattern.evaluate(c); }, pg.pattern);

@@ -246,5 +246,27 @@ TEST_F(SceneConverterTest, APigmentContainingItselfIsAnError) {
   }
 }
 
+TEST_F(SceneConverterTest, PigmentsNestedTooDeepAreAnErrorNotAStackOverflow) {
+  // 100,000 levels used to overflow the converter's recursion.
+  ASSERT_EQ(runLua("p = ColorPigment(red)\n"
+                   "for i = 1, 100000 do p = CheckerPigment2D() { pigment1 = p } end\n"
+                   "s = Scene()\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = p } })"),
+            "");
+  try {
+    convertGlobal("s");
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError &e) {
+    EXPECT_STREQ(e.what(), "test.lua:2: CheckerPigment2D: pigments are nested more than 64 deep");
+  }
+  // 64 levels are fine.
+  ASSERT_EQ(runLua("q = ColorPigment(red)\n"
+                   "for i = 1, 64 do q = CheckerPigment3D() { pigment2 = q } end\n"
+                   "t = Scene()\n"
+                   "t:add_entity(Sphere() { texture = Texture() { pigment = q } })"),
+            "");
+  EXPECT_EQ(convertGlobal("t").pigments.size(), 64u + 2u);
+}
+
 } // namespace
 } // namespace lray::lua

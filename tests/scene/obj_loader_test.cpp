@@ -113,5 +113,17 @@ TEST(ObjLoaderTest, LoadsFilesAndReportsMissingOnes) {
   }
 }
 
+TEST(ObjLoader, DirectoriesAndDevicesAreNotObjFiles) {
+  // A directory would read as an empty mesh, /dev/zero would never end.
+  for (const char *path : {"/dev/zero", "/tmp"}) {
+    try {
+      loadObj(path, "model.obj");
+      FAIL() << path;
+    } catch (const SceneError &e) {
+      EXPECT_EQ(std::string(e.what()), std::string("model.obj: not a regular file (") + path + ")");
+    }
+  }
+}
+
 } // namespace
 } // namespace lray

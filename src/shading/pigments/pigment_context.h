@@ -24,6 +24,11 @@ struct PigmentTable {
   size_t imageCount = 0;
 };
 
+/// How deep checkers may nest: the converter refuses deeper scripts (their
+/// recursion would otherwise be as deep as the user's data), so evaluation
+/// never meets more.
+constexpr int kMaxPigmentNesting = 64;
+
 /// One evaluation: the table, the pigment's own map, the hit, and how deep
 /// in nested checkers it is (bounded against a malformed table).
 struct PigmentContext {

@@ -108,6 +108,7 @@ Scene SceneScript::buildFrame(double clock) {
   // allocator keeps freed blocks for the next frame anyway, and the next
   // frame's allocations drive the collector.
   lua_pop(L, 1);
+  validateLightWork(scene, impl_->options.maxLightSamples);
   if (auto warning = aspectWarning(impl_->info, scene.camera)) impl_->warnings.push_back(*warning);
   return scene;
 }

@@ -18,6 +18,7 @@ struct ScriptOptions {
   double timeoutSeconds = 60;   ///< --script-timeout; <= 0 means no limit. Applies to the
                                 ///< initial run and to each scene(clock) call separately.
   uint64_t maxPixels = kDefaultMaxPixels; ///< --max-pixels: cap on width*height*samples^2
+  uint64_t maxLightSamples = kDefaultMaxLightSamples; ///< --max-light-samples, per light
 };
 
 /// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.

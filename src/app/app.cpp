@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -73,6 +74,7 @@ int run(const Options &opt) {
   scriptOptions.unsafe = opt.unsafe;
   scriptOptions.timeoutSeconds = opt.scriptTimeout;
   scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
+  scriptOptions.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
   auto t0 = std::chrono::steady_clock::now();
   SceneScript script(opt.scenePath, scriptOptions);
   stats.loadSeconds = secondsSince(t0);

@@ -84,6 +84,10 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("--script-timeout", o.scriptTimeout,
                  "Abort a script that runs longer than SECONDS (default 60)")
       ->check(positive);
+  app.add_option("--max-light-samples", o.maxLightSamples,
+                 "Refuse a light with more shadow rays per shading point (rows*cols) than "
+                 "this (default 65536)")
+      ->check(positive);
   app.add_option("--max-pixels", o.maxPixels,
                  "Refuse renders with width*height*samples^2 above this (default 1e9)")
       ->check(positive);

@@ -26,6 +26,7 @@ struct Options {
   std::string statsPath;
   double scriptTimeout = 60;
   double maxPixels = 1e9; ///< cap on width * height * samples^2
+  double maxLightSamples = 65536; ///< cap on one light's shadow rays per shading point
 };
 
 /// The outcome of parsing: either options to run, or an exit code with the

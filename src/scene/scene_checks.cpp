@@ -1,7 +1,10 @@
 // Pipeline: scene description. See scene_checks.h.
 #include "scene/scene_checks.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <variant>
 
 namespace lray {
 
@@ -26,6 +29,23 @@ void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::str
                               std::to_string(static_cast<unsigned long long>(pixels)) +
                               " exceeds the limit of " + std::to_string(maxPixels) +
                               " (raise it with --max-pixels)");
+}
+
+void validateLightWork(const Scene &scene, uint64_t maxLightSamples) {
+  // The samplers count in int: no limit may let a count past it.
+  const uint64_t limit = std::min<uint64_t>(maxLightSamples, INT32_MAX);
+  for (const SceneLight &light : scene.lights) {
+    std::visit(
+        [&](const auto &l) {
+          const uint64_t n = l.samplesPerPoint();
+          if (n <= limit) return;
+          throw SceneError(l.loc, std::string(l.kName) + ": " + std::to_string(n) +
+                                      " shadow rays per shading point exceed the limit of " +
+                                      std::to_string(limit) +
+                                      " (raise it with --max-light-samples)");
+        },
+        light);
+  }
 }
 
 std::optional<std::string> aspectWarning(const SceneInfo &info, const Camera &camera) {

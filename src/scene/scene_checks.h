@@ -15,6 +15,15 @@ namespace lray {
 /// CLI default in src/app/options.h is the same 1e9).
 inline constexpr uint64_t kDefaultMaxPixels = 1000000000;
 
+/// Default cap on one light's shadow rays per shading point
+/// (--max-light-samples): a 256 x 256 area light.
+inline constexpr uint64_t kDefaultMaxLightSamples = 65536;
+
+/// Throws SceneError at the light's script line when a light would trace
+/// more than maxLightSamples shadow rays per shading point (a 100000 x
+/// 100000 area light renders for days); the message names the flag.
+void validateLightWork(const Scene &scene, uint64_t maxLightSamples);
+
 /// Throws SceneError (prefixed with `where`, e.g. the script name) when a
 /// size is not a positive integer, the clocks are not finite, or
 /// width * height * samples^2 exceeds maxPixels.

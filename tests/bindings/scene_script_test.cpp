@@ -72,6 +72,33 @@ TEST(SceneScriptTest, MaxPixelsCapsWidthTimesHeightTimesSamplesSquared) {
   EXPECT_EQ(errorOf([&] { SceneScript::fromString(source + kMinimal, "test.lua", ".", options); }), "");
 }
 
+TEST(SceneScriptTest, MaxLightSamplesCapsEachLightsShadowRaysPerPoint) {
+  // A 100000 x 100000 area light would trace 1e10 shadow rays per hit.
+  const std::string source = "function scene(clock)\n"
+                             "  local s = Scene()\n"
+                             "  s:add_light(Light() { rows = 100000, cols = 100000 })\n"
+                             "  s:add_light(SpotLight())\n"
+                             "  return s\n"
+                             "end\n";
+  ScriptOptions options;
+  SceneScript script = SceneScript::fromString(source, "test.lua", ".", options);
+  EXPECT_EQ(errorOf([&] { script.buildFrame(0); }),
+            "test.lua:3: Light: 10000000000 shadow rays per shading point exceed the limit of "
+            "65536 (raise it with --max-light-samples)");
+  options.maxLightSamples = 20000000000;
+  SceneScript raised = SceneScript::fromString(source, "test.lua", ".", options);
+  EXPECT_NE(errorOf([&] { raised.buildFrame(0); }).find("exceed the limit of 2147483647"),
+            std::string::npos);
+  options.maxLightSamples = 1;
+  SceneScript tiny = SceneScript::fromString("function scene(clock)\n"
+                                             "  local s = Scene()\n"
+                                             "  s:add_light(SpotLight())\n"
+                                             "  return s\n"
+                                             "end\n",
+                                             "test.lua", ".", options);
+  EXPECT_EQ(errorOf([&] { tiny.buildFrame(0); }), "");
+}
+
 TEST(SceneScriptTest, ScriptLevelErrors) {
   EXPECT_EQ(errorOf([] { SceneScript::fromString("local x = 1", "test.lua"); }),
             "test.lua: the script must define a global function scene(clock) returning a Scene");

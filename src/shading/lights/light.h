@@ -11,6 +11,7 @@
 #include "scene/scene_error.h"
 #include "shading/lights/light_sample.h"
 
+#include <cstdint>
 #include <string>
 
 namespace lray {
@@ -24,6 +25,9 @@ struct Light {
   bool area = false; ///< jitter inside each cell instead of its centre
   Transform worldFromLight;
   SourceLocation loc;
+
+  /// Shadow rays per shading point (bounded by --max-light-samples).
+  uint64_t samplesPerPoint() const { return static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols); }
 
   /// A script-level problem with the values ("": none; each is checked alone).
   std::string invalid() const { return {}; }

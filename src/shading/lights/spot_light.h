@@ -12,6 +12,7 @@
 #include "shading/lights/light_sample.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -25,6 +26,9 @@ struct SpotLight {
   double falloff = 45; ///< half-angle where the light reaches zero, degrees
   Transform worldFromLight;
   SourceLocation loc;
+
+  /// Shadow rays per shading point: one.
+  uint64_t samplesPerPoint() const { return 1; }
 
   /// A script-level problem with the values ("": none); the binding
   /// checks each angle alone, this their order.

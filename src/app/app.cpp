@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <new>
 #include <unistd.h>
 
 namespace lray {
@@ -151,6 +152,9 @@ int runLray(int argc, const char *const *argv) {
     return run(*parsed.options);
   } catch (const SceneError &e) {
     std::fprintf(stderr, "lray: error: %s\n", e.what());
+  } catch (const std::bad_alloc &) {
+    // "std::bad_alloc" would tell the user nothing: say what ran out.
+    std::fprintf(stderr, "lray: error: %s: out of memory\n", parsed.options->scenePath.c_str());
   } catch (const std::exception &e) {
     std::fprintf(stderr, "lray: error: %s\n", e.what());
   }

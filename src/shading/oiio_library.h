@@ -8,9 +8,14 @@
 #include "scene/scene_error.h"
 #include "shading/texture_image.h"
 
+#include <cstddef>
 #include <string>
 
 namespace lray {
+
+/// Largest texture decoded (width * height): 2^28 texels, 3 GiB as float
+/// RGB, a 16384 x 16384 image.
+inline constexpr size_t kMaxTextureTexels = size_t{1} << 28;
 
 /// The module's entry points (C++ types: it is built with the same
 /// compiler and flags, and loaded into the same process).

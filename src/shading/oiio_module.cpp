@@ -54,10 +54,16 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   if (spec.width <= 0 || spec.height <= 0 || nch <= 0) {
     throw SceneError(loc, "ImagePigment2D: image '" + path + "' is empty");
   }
+  size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  // The header's size is checked before anything is allocated from it: a
+  // 100000 x 100000 header in a tiny file would ask for 120 GB.
+  if (texels > kMaxTextureTexels)
+    throw SceneError(loc, "ImagePigment2D: image '" + path + "' is " + std::to_string(spec.width) +
+                              " x " + std::to_string(spec.height) + " texels, more than the " +
+                              "limit of " + std::to_string(kMaxTextureTexels));
   TextureImage image;
   image.width = spec.width;
   image.height = spec.height;
-  size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   bool ok = false;
   if (spec.format == OIIO::TypeDesc::UINT8) {
     std::vector<uint8_t> data(texels * nch);

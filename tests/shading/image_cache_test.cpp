@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -172,6 +173,42 @@ TEST_F(ImageCacheTest, UnreadableImageIsASceneError) {
   std::fputs("this is not a png", f);
   std::fclose(f);
   EXPECT_THROW(ImageCache::readImage(path, false), SceneError);
+}
+
+/// CRC-32 of a PNG chunk's type and data (ISO 3309, as PNG defines it).
+uint32_t pngCrc(const std::string &bytes) {
+  uint32_t c = 0xffffffffu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+std::string bigEndian(uint32_t v) {
+  return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+}
+
+std::string pngChunk(const std::string &type, const std::string &data) {
+  return bigEndian(static_cast<uint32_t>(data.size())) + type + data + bigEndian(pngCrc(type + data));
+}
+
+TEST_F(ImageCacheTest, AHeaderClaimingAHugeImageIsRefusedBeforeAllocating) {
+  // A 100-byte file whose header says 100000 x 100000 (120 GB as float RGB).
+  std::string ihdr = bigEndian(100000) + bigEndian(100000) + std::string("\x08\x02\x00\x00\x00", 5);
+  std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) +
+                    pngChunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) +
+                    pngChunk("IEND", "");
+  fs::path path = dir_ / "huge.png";
+  std::ofstream(path, std::ios::binary) << png;
+  try {
+    ImageCache::readImage(path.string(), false, {"s.lua", 3});
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError &e) {
+    EXPECT_EQ(std::string(e.what()), "s.lua:3: ImagePigment2D: image '" + path.string() +
+                                         "' is 100000 x 100000 texels, more than the limit of "
+                                         "268435456");
+  }
 }
 
 } // namespace

@@ -51,7 +51,12 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw SceneError("cannot write '" + path + "': " + ec.message());
+  if (ec) {
+    // A directory under the final name, say: the temporary file must not stay.
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw SceneError("cannot write '" + path + "': " + ec.message());
+  }
 }
 
 int run(const Options &opt) {

@@ -170,6 +170,19 @@ TEST_F(LrayCli, StatsJsonCountsRays) {
   EXPECT_NE(json.find("\"build\""), std::string::npos);
 }
 
+TEST_F(LrayCli, StatsOverADirectoryIsAnErrorThatLeavesNoTemporaryFile) {
+  fs::path scene = writeScene("st.lua", kSpheres);
+  fs::path stats = dir_ / "stats.json";
+  fs::create_directories(stats / "inside"); // a non-empty folder under the stats name
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() + " --quiet --frames 0 --stats " +
+                     stats.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("cannot write '" + stats.string() + "'"), std::string::npos) << r.output;
+  for (const auto &entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find("stats.json.tmp"), std::string::npos)
+        << entry.path();
+}
+
 TEST_F(LrayCli, ScriptErrorNamesFileAndLineAndWritesNothing) {
   fs::path scene = writeScene("broken.lua", "function scene(clock)\n  local s = Scene()\n  "
                                             "s:add_entity(nil_value.x)\n  return s\nend\n");

@@ -460,6 +460,18 @@ void getAttribute(lua_State *L, void *obj, int self, const Member &m) {
   }
 }
 
+/// The value at stack index `value` as an M, passed through the member's
+/// validator (if any); TypeMismatch otherwise.
+template <class M> M checkedValue(lua_State *L, int value, const Member &m) {
+  M v = LuaValue<M>::check(L, value);
+  Validator<M> validate;
+  std::memcpy(&validate, m.extra, sizeof validate);
+  if (validate) {
+    if (const char *expected = validate(v)) throw TypeMismatch(expected, describeValue(L, value));
+  }
+  return v;
+}
+
 template <class T, class C, class M>
 void setAttribute(lua_State *L, void *obj, int self, int value, const Member &m) {
   if constexpr (std::is_pointer_v<M>) {
@@ -469,13 +481,7 @@ void setAttribute(lua_State *L, void *obj, int self, int value, const Member &m)
     lua_setiuservalue(L, self, m.slot);
     memberRef<T, C, M>(obj, m) = &target;
   } else {
-    M v = LuaValue<M>::check(L, value);
-    Validator<M> validate;
-    std::memcpy(&validate, m.extra, sizeof validate);
-    if (validate) {
-      if (const char *expected = validate(v)) throw TypeMismatch(expected, describeValue(L, value));
-    }
-    memberRef<T, C, M>(obj, m) = std::move(v);
+    memberRef<T, C, M>(obj, m) = checkedValue<M>(L, value, m);
   }
 }
 
@@ -494,13 +500,7 @@ void getPartAttribute(lua_State *L, void *obj, int, const Member &m) {
 
 template <class T, auto Part, class C, class M>
 void setPartAttribute(lua_State *L, void *obj, int, int value, const Member &m) {
-  M v = LuaValue<M>::check(L, value);
-  Validator<M> validate;
-  std::memcpy(&validate, m.extra, sizeof validate);
-  if (validate) {
-    if (const char *expected = validate(v)) throw TypeMismatch(expected, describeValue(L, value));
-  }
-  partMemberRef<T, Part, C, M>(obj, m) = std::move(v);
+  partMemberRef<T, Part, C, M>(obj, m) = checkedValue<M>(L, value, m);
 }
 
 template <class T> using PropertyGet = void (*)(lua_State *, T &, int self);

@@ -26,7 +26,7 @@ public:
   bool empty() const { return indices_.empty(); }
   size_t size() const { return indices_.size(); }
   /// True for an entity this class tests (the trees leave it out).
-  static bool holds(const Entity &e) { return !e.isMesh() && !shapeBounded(e); }
+  static bool holds(const Entity &e) { return !shapeBounded(e); }
 
   /// After a tree's closest-hit query that returned `found` (and `hit` if
   /// true): replaces `hit` by a strictly nearer unbounded hit; returns

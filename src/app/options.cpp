@@ -48,10 +48,13 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
 
   std::map<std::string, BackendKind> byName;
-  std::string names;
+  std::string backendNames; // "embree or kdtree": for an unknown name
+  std::string names; // "embree (default) or kdtree": for --help
   for (const BackendEntry &b : backends()) {
     byName.emplace(b.name, b.kind);
-    names += names.empty() ? std::string(b.name) + " (default)" : std::string(" or ") + b.name;
+    const std::string separator = backendNames.empty() ? "" : " or ";
+    backendNames += separator + b.name;
+    names += separator + b.name + (separator.empty() ? " (default)" : "");
   }
   // Names are looked up after parsing: CLI11's enum transformer shows its
   // internal mapping in --help and in its error message.
@@ -115,10 +118,8 @@ ParseResult parseOptions(int argc, const char *const *argv) {
     return std::nullopt;
   };
   if (!backend.empty()) {
-    std::string known;
-    for (const BackendEntry &b : backends())
-      known += (known.empty() ? "" : " or ") + std::string(b.name);
-    if (auto error = lookUp(backend, byName, "--backend", known.c_str(), o.backend)) return *error;
+    if (auto error = lookUp(backend, byName, "--backend", backendNames.c_str(), o.backend))
+      return *error;
   }
   if (!format.empty()) {
     if (auto error = lookUp(format, formats, "--format", "png, tga or exr", o.format)) return *error;

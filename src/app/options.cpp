@@ -122,7 +122,8 @@ ParseResult parseOptions(int argc, const char *const *argv) {
       return *error;
   }
   if (!format.empty()) {
-    if (auto error = lookUp(format, formats, "--format", "png, tga or exr", o.format)) return *error;
+    if (auto error = lookUp(format, formats, "--format", "png, tga or exr", o.format))
+      return *error;
   }
 
   if (!frames.empty()) {

@@ -235,7 +235,8 @@ TEST_F(SceneConverterTest, SpotLightFalloffBelowItsAngleIsAnErrorAtItsLine) {
                    "l.falloff = 20\n"
                    "s:add_light(l)"),
             "");
-  EXPECT_EQ(conversionError("s"), "test.lua:2: SpotLight: falloff (20) must be at least angle (40)");
+  EXPECT_EQ(conversionError("s"),
+            "test.lua:2: SpotLight: falloff (20) must be at least angle (40)");
 }
 
 TEST_F(SceneConverterTest, APigmentContainingItselfIsAnError) {
@@ -254,7 +255,8 @@ TEST_F(SceneConverterTest, PigmentsNestedTooDeepAreAnErrorNotAStackOverflow) {
                    "s = Scene()\n"
                    "s:add_entity(Sphere() { texture = Texture() { pigment = p } })"),
             "");
-  EXPECT_EQ(conversionError("s"), "test.lua:2: CheckerPigment2D: pigments are nested more than 64 deep");
+  EXPECT_EQ(conversionError("s"),
+            "test.lua:2: CheckerPigment2D: pigments are nested more than 64 deep");
   // 64 levels are fine.
   ASSERT_EQ(runLua("q = ColorPigment(red)\n"
                    "for i = 1, 64 do q = CheckerPigment3D() { pigment2 = q } end\n"

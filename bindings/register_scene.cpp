@@ -127,6 +127,7 @@ void registerSceneClasses(Registry &reg) {
       .attr("image_height", &SceneInfo::imageHeight, positiveInteger)
       .attr("frames", &SceneInfo::frames, positiveInteger)
       .attr("samples", &SceneInfo::samples, positiveInteger)
+      .attr("noise_threshold", &SceneInfo::noiseThreshold, nonNegativeNumber)
       .attr("start_clock", &SceneInfo::startClock)
       .attr("end_clock", &SceneInfo::endClock);
 

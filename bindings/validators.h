@@ -6,6 +6,9 @@ namespace lray::lua {
 
 inline const char *positiveInteger(const int &v) { return v > 0 ? nullptr : "a positive integer"; }
 inline const char *positiveNumber(const double &v) { return v > 0 ? nullptr : "a positive number"; }
+inline const char *nonNegativeNumber(const double &v) {
+  return v >= 0 ? nullptr : "a number >= 0";
+}
 inline const char *rightAngleOrLess(const double &v) {
   return v >= 0 && v <= 90 ? nullptr : "an angle between 0 and 90 degrees";
 }

@@ -86,6 +86,8 @@ int run(const Options &opt) {
   stats.loadSeconds = secondsSince(t0);
   const SceneInfo info = effectiveSceneInfo(script.info(), opt);
 
+  const FrameSettings sampling = samplingSettings(info, opt);
+
   int first = opt.firstFrame.value_or(0);
   int last = opt.lastFrame.value_or(info.frames - 1);
   std::string stem = fs::path(opt.scenePath).stem().string();
@@ -95,6 +97,7 @@ int run(const Options &opt) {
   stats.width = info.imageWidth;
   stats.height = info.imageHeight;
   stats.samples = info.samples;
+  stats.sampling = sampling;
 
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
@@ -104,8 +107,9 @@ int run(const Options &opt) {
         (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
     frameStats.file = path;
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
-    Film film = renderScriptFrame(script, info, frame, stats.backend, images, frameStats,
-                                  [&bar](size_t done, size_t total) { bar.update(done, total); });
+    Film film = renderScriptFrame(
+        script, info, frame, stats.backend, images, frameStats,
+        [&bar](size_t done, size_t total) { bar.update(done, total); }, sampling);
     bar.finish(frameStats.renderSeconds);
     if (frame == first)
       for (const std::string &warning : frameStats.warnings)
@@ -143,6 +147,39 @@ SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options
                                  *options.firstFrame, *options.lastFrame, info.frames,
                                  info.frames == 1 ? "" : "s", info.frames - 1));
   return info;
+}
+
+FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
+  FrameSettings s;
+  const double threshold = options.noiseThreshold.value_or(info.noiseThreshold);
+  s.adaptive = threshold > 0 || options.timeLimit > 0;
+  if (!s.adaptive && (options.minSamples || options.maxSamples))
+    throw SceneError("--min-samples and --max-samples apply to adaptive sampling: give "
+                     "--noise-threshold or --time-limit too (or set scene_info.noise_threshold)");
+  AdaptiveSettings &a = s.adaptiveSettings;
+  a.noiseThreshold = threshold;
+  a.timeLimit = options.timeLimit;
+  a.maxSamples = options.maxSamples.value_or(std::max(a.maxSamples, options.minSamples.value_or(0)));
+  a.minSamples = options.minSamples.value_or(std::min(a.minSamples, a.maxSamples));
+  if (a.minSamples > a.maxSamples)
+    throw SceneError(fmt::format("--min-samples ({}) is above --max-samples ({})", a.minSamples,
+                                 a.maxSamples));
+  // The first pass's samples are split into two halves for the estimate.
+  if (a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
+  s.aovs = options.aovs;
+  s.lightSampling =
+      options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);
+  if (s.adaptive) {
+    const long double work = static_cast<long double>(info.imageWidth) * info.imageHeight *
+                             a.maxSamples;
+    if (work > static_cast<long double>(options.maxPixels))
+      throw SceneError(fmt::format(
+          "{}: image_width * image_height * max samples = {} exceeds the limit of {} (lower "
+          "--max-samples or raise --max-pixels)",
+          options.scenePath, static_cast<unsigned long long>(work),
+          static_cast<unsigned long long>(options.maxPixels)));
+  }
+  return s;
 }
 
 int runLray(int argc, const char *const *argv) {

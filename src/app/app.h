@@ -22,4 +22,10 @@ std::string frameFileName(const std::string &stem, int frame, int frameCount, Im
 /// (positive sizes, the --max-pixels cap, the frame range). Throws SceneError.
 SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options);
 
+/// How pixels are sampled, from the options and scene_info: adaptive when a
+/// noise threshold or a time limit is given, with its sample bounds and
+/// light sampling. Throws SceneError on a contradiction (e.g. --max-samples
+/// without adaptive sampling) or work above --max-pixels.
+FrameSettings samplingSettings(const SceneInfo &info, const Options &options);
+
 } // namespace lray

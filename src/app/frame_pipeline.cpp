@@ -11,8 +11,8 @@
 namespace lray {
 
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
-                       std::string_view backend,
-                       ImageCache &images, FrameStats &stats, const ProgressFn &progress) {
+                       std::string_view backend, ImageCache &images, FrameStats &stats,
+                       const ProgressFn &progress, const FrameSettings &sampling) {
   stats.frame = frame;
   stats.clock = info.clockForFrame(frame);
 
@@ -30,7 +30,7 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   std::unique_ptr<Accelerator> accel = makeAccelerator(backend, scene);
   stats.accel = accel->stats();
 
-  FrameSettings settings;
+  FrameSettings settings = sampling;
   settings.width = info.imageWidth;
   settings.height = info.imageHeight;
   settings.samples = info.samples;
@@ -38,6 +38,7 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   t0 = std::chrono::steady_clock::now();
   Film film = renderFrame(scene, *accel, images, settings, stats.rays, progress);
   stats.renderSeconds = secondsSince(t0);
+  stats.sampling = film.report;
   return film;
 }
 

@@ -16,9 +16,12 @@ class ImageCache;
 
 /// Renders 0-based frame `frame` of `script` at the size and sampling of
 /// `info` with the backend named `backend` (accel/accelerator.h backends()),
-/// filling `stats` (times, rays, backend figures).
+/// filling `stats` (times, rays, backend figures, sampling). `sampling`
+/// gives the adaptive, light-sampling and cancel fields (app.h
+/// samplingSettings); the size, samples and frame come from `info` and
+/// `frame`.
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
-                       std::string_view backend,
-                       ImageCache &images, FrameStats &stats, const ProgressFn &progress = nullptr);
+                       std::string_view backend, ImageCache &images, FrameStats &stats,
+                       const ProgressFn &progress = nullptr, const FrameSettings &sampling = {});
 
 } // namespace lray

@@ -43,6 +43,20 @@ ParseResult parseOptions(int argc, const char *const *argv) {
         return {};
       },
       "POSITIVE");
+  const CLI::Validator nonNegative(
+      [](std::string &input) -> std::string {
+        size_t used = 0;
+        double v = -1;
+        try {
+          v = std::stod(input, &used);
+        } catch (const std::exception &) {
+          used = 0;
+        }
+        if (used != input.size() || !(v >= 0) || !std::isfinite(v))
+          return "expects a number >= 0, got '" + input + "'";
+        return {};
+      },
+      "NUMBER");
   app.set_version_flag("--version", std::string("lray ") + LRAY_VERSION);
   app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
   app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
@@ -73,12 +87,34 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("-s,--samples", o.samples,
                  "n: n x n jittered samples per pixel (overrides scene_info)")
       ->check(positive);
+  app.add_option("--noise-threshold", o.noiseThreshold,
+                 "Adaptive sampling: passes of samples until each pixel's error estimate is "
+                 "below T (e.g. 0.01; 0: fixed n x n sampling; overrides scene_info)")
+      ->check(nonNegative);
+  app.add_option("--min-samples", o.minSamples,
+                 "Adaptive sampling: samples per pixel of the first pass (default 16)")
+      ->check(positive);
+  app.add_option("--max-samples", o.maxSamples,
+                 "Adaptive sampling: most samples a pixel takes (default 1024)")
+      ->check(positive);
+  app.add_option("--time-limit", o.timeLimit,
+                 "Render each frame progressively for at most SECONDS, then write the best "
+                 "image so far")
+      ->check(positive);
+  std::string lightSampling;
+  app.add_option("--light-sampling", lightSampling,
+                 "Area lights: 'all' (every sample shades every cell; default for fixed "
+                 "sampling) or 'spread' (a pixel's samples share the cells; default for adaptive)")
+      ->type_name("MODE");
   std::map<std::string, ImageFormat> formats{
       {"png", ImageFormat::Png}, {"tga", ImageFormat::Tga}, {"exr", ImageFormat::Exr}};
   app.add_option("-f,--format", format, "Output format: png (default), tga or exr")
       ->type_name("FORMAT");
   app.add_flag("--linear", o.linear,
                "Linear workflow: decode 8-bit textures from sRGB, encode 8-bit outputs to sRGB");
+  app.add_flag("--aovs", o.aovs,
+               "EXR output: add depth (Z), normal (N.X/N.Y/N.Z) and albedo "
+               "(Albedo.R/G/B) layers for denoisers and compositors");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or informational output");
   app.add_option("--stats", o.statsPath,
                  "Write render statistics as JSON to FILE (times, rays by kind, memory)");
@@ -125,6 +161,27 @@ ParseResult parseOptions(int argc, const char *const *argv) {
     if (auto error = lookUp(format, formats, "--format", "png, tga or exr", o.format))
       return *error;
   }
+
+  if (!lightSampling.empty()) {
+    const std::map<std::string, LightSampling> modes{{"all", LightSampling::All},
+                                                     {"spread", LightSampling::Spread}};
+    LightSampling mode{};
+    if (auto error = lookUp(lightSampling, modes, "--light-sampling", "all or spread", mode))
+      return *error;
+    o.lightSampling = mode;
+  }
+  auto usageError = [](const std::string &why) {
+    return ParseResult{std::nullopt, 2, "lray: error: " + why + " (run 'lray --help' for usage)"};
+  };
+  if (o.samples && (o.noiseThreshold.value_or(0) > 0 || o.timeLimit > 0))
+    return usageError("--samples sets fixed n x n sampling; with --noise-threshold or "
+                      "--time-limit give --min-samples and --max-samples instead");
+  if (o.minSamples && o.maxSamples && *o.minSamples > *o.maxSamples)
+    return usageError("--min-samples (" + std::to_string(*o.minSamples) +
+                      ") is above --max-samples (" + std::to_string(*o.maxSamples) + ")");
+
+  if (o.aovs && o.format != ImageFormat::Exr)
+    return usageError("--aovs needs EXR output (--format exr): PNG and TGA hold only RGB");
 
   if (!frames.empty()) {
     auto usage = [&](const std::string &why) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "render/frame_settings.h"
 #include "render/image_writer.h"
 
 #include <optional>
@@ -19,8 +20,13 @@ struct Options {
   int threads = 0; ///< 0 = all cores
   std::optional<int> firstFrame, lastFrame; ///< --frames A:B, inclusive, 0-based
   std::optional<int> width, height, samples;
+  std::optional<double> noiseThreshold;       ///< adaptive sampling (0: fixed)
+  std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel
+  double timeLimit = 0;                       ///< seconds per frame; 0: none
+  std::optional<LightSampling> lightSampling; ///< default: all (fixed), spread (adaptive)
   ImageFormat format = ImageFormat::Png;
   bool linear = false;
+  bool aovs = false; ///< EXR: depth, normal and albedo layers
   bool quiet = false;
   bool unsafe = false;
   std::string statsPath;

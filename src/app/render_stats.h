@@ -2,6 +2,8 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "render/film.h"
+#include "render/frame_settings.h"
 #include "shading/ray_counts.h"
 
 #include <chrono>
@@ -23,6 +25,7 @@ struct FrameStats {
   size_t entities = 0, lights = 0;
   std::vector<std::string> warnings; ///< e.g. the SPEC 4 camera-aspect warning
   RayCounts rays;
+  SamplingReport sampling;
 };
 
 /// The whole run.
@@ -31,6 +34,7 @@ struct RunStats {
   std::string backend;
   int threads = 0;
   int width = 0, height = 0, samples = 0;
+  FrameSettings sampling; ///< the adaptive and light-sampling choices
   double loadSeconds = 0; ///< running the script file itself
   double totalSeconds = 0;
   size_t peakMemoryBytes = 0;

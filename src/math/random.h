@@ -30,6 +30,11 @@ public:
   }
   uint64_t key() const { return key_; }
 
+  /// Which share of an area light's cells this sample takes when a pixel's
+  /// samples share the cells out (LightSampling::Spread; the integrator
+  /// reduces it modulo the share count). Unused otherwise.
+  uint32_t lightStratum = 0;
+
 private:
   uint64_t key_ = 0;
   uint64_t dim_ = 0;

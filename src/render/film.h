@@ -1,22 +1,39 @@
 // Pipeline: render. The frame buffer: one averaged, unclamped RGB value per
 // pixel, filled tile by tile; quantised only when an LDR file is written.
+// Beside the colour it keeps each pixel's error estimate and sample count,
+// and how the frame's sampling ended.
 #pragma once
 
 #include "math/color.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace lray {
+
+/// How the samples of a frame went (render/pixel_error.h for the estimate).
+struct SamplingReport {
+  uint64_t samples = 0;     ///< camera samples taken, all pixels together
+  uint32_t maxPixelSamples = 0;
+  int passes = 0;           ///< 1 for fixed sampling
+  bool timeLimitHit = false;///< the render stopped at --time-limit
+  bool cancelled = false;   ///< stopped by FrameSettings::cancel
+  double meanError = 0;     ///< over pixels with an estimate (>= 2 samples)
+  double maxError = 0;
+  bool hasError = false;    ///< false when every pixel took one sample
+};
 
 /// Row-major RGB float image; row 0 is the top of the picture.
 class Film {
 public:
   Film(int width, int height)
-      : width_(width), height_(height), rgb_(static_cast<size_t>(width) * height * 3, 0.f) {}
+      : width_(width), height_(height), rgb_(pixels() * 3, 0.f), error_(pixels(), 0.f),
+        samples_(pixels(), 0) {}
 
   int width() const { return width_; }
   int height() const { return height_; }
+  size_t pixels() const { return static_cast<size_t>(width_) * height_; }
   void set(int x, int y, const Color &c) {
     float *p = &rgb_[(static_cast<size_t>(y) * width_ + x) * 3];
     p[0] = static_cast<float>(c.r);
@@ -29,9 +46,36 @@ public:
   }
   const std::vector<float> &data() const { return rgb_; }
 
+  /// The pixel's error estimate (0 with fewer than two samples).
+  float error(int x, int y) const { return error_[static_cast<size_t>(y) * width_ + x]; }
+  void setError(int x, int y, float e) { error_[static_cast<size_t>(y) * width_ + x] = e; }
+  uint32_t sampleCount(int x, int y) const { return samples_[static_cast<size_t>(y) * width_ + x]; }
+  void setSampleCount(int x, int y, uint32_t n) { samples_[static_cast<size_t>(y) * width_ + x] = n; }
+  const std::vector<float> &errorData() const { return error_; }
+
+  /// The layers for denoisers and compositors, per pixel, averaged over a
+  /// 4 x 4 grid of camera rays (render/tile_renderer_impl.h): camera-space
+  /// depth Z of the first hit (+inf where every ray missed), the
+  /// camera-space unit shading normal facing the camera, and the albedo
+  /// (pigment colour), both 0 where rays miss. Empty unless enabled.
+  struct Aov {
+    float z;
+    float n[3];
+    float albedo[3];
+  };
+  void enableAovs() { aov_.assign(pixels(), Aov{}); }
+  bool hasAovs() const { return !aov_.empty(); }
+  Aov &aov(int x, int y) { return aov_[static_cast<size_t>(y) * width_ + x]; }
+  const Aov &aov(int x, int y) const { return aov_[static_cast<size_t>(y) * width_ + x]; }
+
+  SamplingReport report;
+
 private:
   int width_, height_;
   std::vector<float> rgb_;
+  std::vector<float> error_;
+  std::vector<uint32_t> samples_;
+  std::vector<Aov> aov_;
 };
 
 } // namespace lray

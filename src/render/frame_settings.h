@@ -2,20 +2,46 @@
 // reported; shared by the renderer and the backends that run its tile loop.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 
 namespace lray {
 
+/// How a pixel sample lights a point under an area light of K cells.
+enum class LightSampling {
+  All,    ///< every sample shades every cell (SPEC 6)
+  Spread, ///< the samples of a pixel share the cells out: see light_strata.h
+};
+
+/// Progressive sampling: passes of Owen-scrambled Sobol samples until
+/// every pixel's error estimate is below the threshold, or the time is up.
+struct AdaptiveSettings {
+  double noiseThreshold = 0; ///< 0: no pixel stops early (a time limit ends the render)
+  int minSamples = 16;       ///< samples per pixel of the first pass (even)
+  int maxSamples = 1024;     ///< no pixel takes more
+  double timeLimit = 0;      ///< seconds; 0: none
+};
+
 struct FrameSettings {
   int width = 800;
   int height = 600;
-  int samples = 1;    ///< n: n x n stratified jittered samples per pixel
+  int samples = 1;    ///< n: n x n stratified jittered samples per pixel (fixed sampling)
   int frameIndex = 0; ///< part of the random-stream key
+  bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
+  AdaptiveSettings adaptiveSettings;
+  LightSampling lightSampling = LightSampling::All;
+  /// Also fill the film's depth, normal and albedo layers (Film::aov).
+  bool aovs = false;
+  /// Set by another thread to stop the render at the next tile boundary
+  /// (the first pass of an adaptive render always completes).
+  const std::atomic<bool> *cancel = nullptr;
 };
 
 /// Called after each finished tile with (tiles done, tiles total), from
-/// worker threads: must be thread-safe.
+/// worker threads: must be thread-safe. An adaptive render reports each
+/// pass's tiles (the total is the pass's).
 using ProgressFn = std::function<void(size_t, size_t)>;
 
 constexpr int kTileSize = 16;

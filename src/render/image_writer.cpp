@@ -79,6 +79,29 @@ std::string writePng(const std::string &path, int width, int height, const uint8
 
 } // namespace
 
+std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels) {
+  channels = {"R", "G", "B", "Error", "SampleCount"};
+  if (film.hasAovs())
+    for (const char *name : {"Z", "N.X", "N.Y", "N.Z", "Albedo.R", "Albedo.G", "Albedo.B"})
+      channels.push_back(name);
+  std::vector<float> pixels;
+  pixels.reserve(film.pixels() * channels.size());
+  for (int y = 0; y < film.height(); ++y) {
+    for (int x = 0; x < film.width(); ++x) {
+      const Color c = film.get(x, y);
+      pixels.insert(pixels.end(),
+                    {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b),
+                     film.error(x, y), static_cast<float>(film.sampleCount(x, y))});
+      if (film.hasAovs()) {
+        const Film::Aov &a = film.aov(x, y);
+        pixels.insert(pixels.end(), {a.z, a.n[0], a.n[1], a.n[2], a.albedo[0], a.albedo[1],
+                                     a.albedo[2]});
+      }
+    }
+  }
+  return pixels;
+}
+
 void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb) {
   static std::atomic<unsigned> counter{0};
   fs::path finalPath(path);
@@ -95,8 +118,10 @@ void writeImage(const Film &film, const std::string &path, ImageFormat format, b
 
   std::string why;
   if (format == ImageFormat::Exr) {
-    why = oiioLibrary().writeFloat(tmpPath.string(), film.width(), film.height(),
-                                   film.data().data());
+    std::vector<std::string> channels;
+    std::vector<float> pixels = exrPixels(film, channels);
+    why = oiioLibrary().writeFloat(tmpPath.string(), film.width(), film.height(), channels,
+                                   pixels.data());
   } else {
     std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
     if (format == ImageFormat::Png) {

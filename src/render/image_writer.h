@@ -22,6 +22,12 @@ uint8_t quantize8(float value, bool srgb);
 /// The 8-bit RGB bytes an LDR file of this film holds (row 0 = top).
 std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb);
 
+/// The channels an EXR of `film` holds, interleaved, and their names:
+/// R, G, B, Error (the pixel's error estimate, render/pixel_error.h),
+/// SampleCount, then with AOVs Z, N.X, N.Y, N.Z, Albedo.R, Albedo.G,
+/// Albedo.B (the names of pbrt-v4's GBufferFilm).
+std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels);
+
 /// Writes `film` to `path` in `format`: PNG/TGA 8 bits per channel (clamped,
 /// rounded; sRGB-encoded when `srgb`), EXR 32-bit float unclamped. Writes a
 /// temporary file in the same folder and renames it over `path`.

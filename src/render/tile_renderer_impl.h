@@ -4,6 +4,9 @@
 
 #include "math/random.h"
 #include "render/camera_rays.h"
+#include "render/owen_sobol.h"
+#include "render/pixel_error.h"
+#include "render/sample_buffer.h"
 #include "render/tile_renderer.h"
 #include "shading/integrator_impl.h"
 
@@ -11,8 +14,10 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <xmmintrin.h>
 
 namespace lray {
@@ -23,73 +28,310 @@ namespace tile_detail {
 // never change a visible value.
 inline void setFlushToZero() { _mm_setcsr(_mm_getcsr() | 0x8040); }
 
+constexpr int kTilePixels = kTileSize * kTileSize;
+
+/// One tile's rectangle in a frame of `tilesX` tiles per row.
+struct TileRect {
+  int x0, y0, x1, y1;
+  TileRect(size_t tile, int tilesX, int width, int height)
+      : x0(static_cast<int>(tile % tilesX) * kTileSize),
+        y0(static_cast<int>(tile / tilesX) * kTileSize), x1(std::min(x0 + kTileSize, width)),
+        y1(std::min(y0 + kTileSize, height)) {}
+  int width() const { return x1 - x0; }
+  size_t pixels() const { return static_cast<size_t>(x1 - x0) * (y1 - y0); }
+};
+
+/// The random offset of a pixel's light strata (Integrator, lightShares):
+/// the same for all its samples, so consecutive samples take consecutive
+/// shares.
+inline uint32_t lightStratumOffset(int frame, uint64_t pixel) {
+  return static_cast<uint32_t>(mix64(mix64(static_cast<uint64_t>(frame) ^ 0x243f6a8885a308d3ULL) ^
+                                     pixel) >>
+                               32);
+}
+
+/// The Owen scramble seed of a pixel's progressive sample positions.
+inline uint64_t pixelPatternSeed(int frame, uint64_t pixel) {
+  return mix64(mix64(static_cast<uint64_t>(frame) + 0x13198a2e03707344ULL) ^ pixel);
+}
+
+/// Work arrays of one thread: the camera rays of one sample index over a
+/// tile's pixels, and each pixel's sums over the samples it takes.
+template <class Accel> struct TileWork {
+  std::array<Ray, kTilePixels> rays;
+  std::array<Hit, kTilePixels> hits;
+  std::array<uint8_t, kTilePixels> found;
+  std::array<Sampler, kTilePixels> samplers;
+  std::array<Color, kTilePixels> colors;
+  std::array<uint16_t, kTilePixels> pixelOf; ///< ray j belongs to tile pixel pixelOf[j]
+  std::array<Color, kTilePixels> sums, oddSums;
+  std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
+  std::array<uint32_t, kTilePixels> taken;
+  static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
+};
+
 } // namespace tile_detail
+
+/// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
+/// end, summing their colours into work.sums / work.oddSums. `position(x,
+/// y, s, sampler, px, py)` gives sample s's image position. Samples run by
+/// index across the tile, so each index's camera rays and shadow rays go to
+/// the backend as coherent batches.
+template <class Accel, class Position>
+void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const CameraRays &camera,
+                const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
+                bool spreadLight, bool pairedStrata, const Position &position, tile_detail::TileWork<Accel> &work,
+                RayCounts &counts) {
+  const size_t count = rect.pixels();
+  const int tileWidth = rect.width();
+  uint32_t begin = end;
+  for (size_t i = 0; i < count; ++i) {
+    work.sums[i] = Color();
+    work.oddSums[i] = Color();
+    work.taken[i] = 0;
+    begin = std::min(begin, work.first[i]);
+  }
+  for (uint32_t s = begin; s < end; ++s) {
+    size_t rays = 0;
+    for (size_t i = 0; i < count; ++i) {
+      if (work.first[i] > s) continue;
+      const int x = rect.x0 + static_cast<int>(i) % tileWidth;
+      const int y = rect.y0 + static_cast<int>(i) / tileWidth;
+      const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
+      Sampler &sampler = work.samplers[rays];
+      sampler = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel, s);
+      if (spreadLight)
+        sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
+                               tile_detail::lightStratumOffset(settings.frameIndex, pixel);
+      double px, py;
+      position(x, y, pixel, s, sampler, px, py);
+      work.rays[rays] = camera.generate(px, py);
+      work.pixelOf[rays] = static_cast<uint16_t>(i);
+      ++rays;
+    }
+    if (rays == 0) continue;
+    accel.intersectCoherent(work.rays.data(), rays, work.hits.data(), work.found.data());
+    counts.camera += rays;
+    integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
+                         work.samplers.data(), rays, work.colors.data(), counts);
+    for (size_t j = 0; j < rays; ++j) {
+      Color c = work.colors[j];
+      if (!isFinite(c)) {
+        ++counts.nonFinite;
+        c = Color();
+      }
+      const size_t i = work.pixelOf[j];
+      work.sums[i] += c;
+      if (s & 1) work.oddSums[i] += c;
+      ++work.taken[i];
+    }
+  }
+}
+
+/// Fills the film's depth, normal and albedo layers: a 4 x 4 grid of camera
+/// rays through each pixel (cell centres, the same for any sampling), the
+/// first hits averaged. Costs one camera ray per grid point and no shading.
+template <class Accel>
+void renderAovs(const Accel &accel, const Integrator<Accel> &integrator, const Scene &scene,
+                const CameraRays &camera, const FrameSettings &settings, Film &film) {
+  constexpr int kGrid = 4;
+  film.enableAovs();
+  const Transform cameraFromWorld = scene.camera.worldFromCamera.inverse();
+  tbb::parallel_for(tbb::blocked_range<int>(0, settings.height), [&](const auto &rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      for (int x = 0; x < settings.width; ++x) {
+        double depth = 0;
+        Vec3 normal;
+        Color albedo;
+        int hits = 0;
+        for (int s = 0; s < kGrid * kGrid; ++s) {
+          const Ray ray =
+              camera.generate(x + (s % kGrid + 0.5) / kGrid, y + (s / kGrid + 0.5) / kGrid);
+          Hit hit;
+          if (!accel.intersect(ray, hit)) continue;
+          ++hits;
+          depth += cameraFromWorld.applyPoint(hit.p).z;
+          const Vec3 facing = dot(ray.d, hit.ng) < 0 ? hit.ns : -hit.ns;
+          normal += normalize(cameraFromWorld.applyNormal(facing));
+          albedo += integrator.albedo(hit);
+        }
+        Film::Aov &a = film.aov(x, y);
+        constexpr double kInv = 1.0 / (kGrid * kGrid);
+        a.z = hits ? static_cast<float>(depth / hits) : std::numeric_limits<float>::infinity();
+        const double len = length(normal);
+        const Vec3 n = len > 0 ? normal / len : Vec3();
+        a.n[0] = static_cast<float>(n.x);
+        a.n[1] = static_cast<float>(n.y);
+        a.n[2] = static_cast<float>(n.z);
+        a.albedo[0] = static_cast<float>(albedo.r * kInv);
+        a.albedo[1] = static_cast<float>(albedo.g * kInv);
+        a.albedo[2] = static_cast<float>(albedo.b * kInv);
+      }
+    }
+  });
+}
 
 template <class Accel>
 void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &images,
                  const FrameSettings &settings, Film &film, RayCounts &counts,
                  const ProgressFn &progress) {
-  const Integrator<Accel> integrator(scene, accel, images);
-  const CameraRays camera(scene.camera, settings.width, settings.height);
+  using namespace tile_detail;
+  const bool spread = settings.lightSampling == LightSampling::Spread;
   const int n = settings.samples;
-  const double invSamples = 1.0 / (static_cast<double>(n) * n);
+  const AdaptiveSettings &adaptive = settings.adaptiveSettings;
+  // Spread: a light's cells are cut into min(shares, cells) shares. Fixed
+  // sampling: one share per sample, so a pixel's n x n samples shade every
+  // cell once. Adaptive: samples 2k and 2k+1 take the same share and the
+  // first pass's pairs cover every share, so both halves of the error
+  // estimate see every cell (were the shares split between the halves, a
+  // penumbra pixel's halves would differ however many samples it took, and
+  // it would never stop).
+  const uint32_t shares =
+      !spread ? 1u
+      : settings.adaptive
+          ? std::max<uint32_t>(1, static_cast<uint32_t>(adaptive.minSamples) / 2)
+          : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
+  const bool pairedStrata = settings.adaptive;
+  const Integrator<Accel> integrator(scene, accel, images, shares);
+  const CameraRays camera(scene.camera, settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
   const size_t tileCount = static_cast<size_t>(tilesX) * tilesY;
-  std::atomic<size_t> tilesDone{0};
   tbb::combinable<RayCounts> perThread;
-
   using Tiles = tbb::blocked_range<size_t>;
-  tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
-    tile_detail::setFlushToZero();
-    constexpr int kTilePixels = kTileSize * kTileSize;
-    std::array<Ray, kTilePixels> rays;
-    std::array<Hit, kTilePixels> hits;
-    std::array<uint8_t, kTilePixels> found;
-    std::array<Sampler, kTilePixels> samplers;
-    std::array<Color, kTilePixels> sums, colors;
-    static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
-    RayCounts &local = perThread.local();
-    for (size_t tile = r.begin(); tile != r.end(); ++tile) {
-      const int x0 = static_cast<int>(tile % tilesX) * kTileSize;
-      const int y0 = static_cast<int>(tile / tilesX) * kTileSize;
-      const int x1 = std::min(x0 + kTileSize, settings.width);
-      const int y1 = std::min(y0 + kTileSize, settings.height);
-      const int tileWidth = x1 - x0;
-      const size_t count = static_cast<size_t>(tileWidth) * (y1 - y0);
-      sums.fill(Color());
-      for (int s = 0; s < n * n; ++s) {
-        const int sx = s % n, sy = s / n;
+  auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
+
+  if (!settings.adaptive) {
+    // Fixed sampling (SPEC 5): n x n strata, one jittered sample in each.
+    const double invSamples = 1.0 / (static_cast<double>(n) * n);
+    const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
+    auto jittered = [n](int x, int y, uint64_t, uint32_t s, Sampler &sampler, double &px,
+                        double &py) {
+      const int sx = static_cast<int>(s) % n, sy = static_cast<int>(s) / n;
+      const double jx = sampler.next(), jy = sampler.next();
+      px = x + (sx + jx) / n;
+      py = y + (sy + jy) / n;
+    };
+    std::atomic<size_t> tilesDone{0};
+    tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
+      setFlushToZero();
+      static thread_local TileWork<Accel> work;
+      RayCounts &local = perThread.local();
+      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
+        const TileRect rect(tile, tilesX, settings.width, settings.height);
+        const size_t count = rect.pixels();
+        std::fill_n(work.first.begin(), count, 0u);
+        sampleTile(accel, integrator, camera, settings, rect, total, spread, false, jittered, work, local);
         for (size_t i = 0; i < count; ++i) {
-          const int x = x0 + static_cast<int>(i) % tileWidth;
-          const int y = y0 + static_cast<int>(i) / tileWidth;
-          const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
-          samplers[i] = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel,
-                                static_cast<uint64_t>(s));
-          const double jx = samplers[i].next(), jy = samplers[i].next();
-          rays[i] = camera.generate(x + (sx + jx) / n, y + (sy + jy) / n);
+          const int x = rect.x0 + static_cast<int>(i) % rect.width();
+          const int y = rect.y0 + static_cast<int>(i) / rect.width();
+          film.set(x, y, work.sums[i] * invSamples);
+          film.setError(x, y, static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
+          film.setSampleCount(x, y, total);
         }
-        accel.intersectCoherent(rays.data(), count, hits.data(), found.data());
-        local.camera += count;
-        integrator.shadeTile(rays.data(), hits.data(), found.data(), samplers.data(), count,
-                             colors.data(), local);
-        for (size_t i = 0; i < count; ++i) {
-          Color c = colors[i];
-          if (!isFinite(c)) {
-            ++local.nonFinite;
-            c = Color();
-          }
-          sums[i] += c;
-        }
+        size_t done = ++tilesDone;
+        if (progress) progress(done, tileCount);
       }
-      for (size_t i = 0; i < count; ++i)
-        film.set(x0 + static_cast<int>(i) % tileWidth, y0 + static_cast<int>(i) / tileWidth,
-                 sums[i] * invSamples);
-      size_t done = ++tilesDone;
-      if (progress) progress(done, tileCount);
+    });
+    perThread.combine_each([&](const RayCounts &c) { counts += c; });
+    if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
+    // The report's figures from the film's own channels.
+    SamplingReport &report = film.report;
+    report.passes = 1;
+    report.samples = static_cast<uint64_t>(total) * film.pixels();
+    report.maxPixelSamples = total;
+    report.hasError = total >= 2;
+    if (report.hasError) {
+      double sum = 0, most = 0;
+      for (float e : film.errorData()) {
+        sum += e;
+        most = std::max(most, static_cast<double>(e));
+      }
+      report.meanError = sum / static_cast<double>(film.pixels());
+      report.maxError = most;
     }
-  });
+    return;
+  }
+
+  // Adaptive: passes of Owen-scrambled Sobol samples; after each pass the
+  // pixels below the noise threshold (and not next to a noisy one) stop.
+  SampleBuffer buffer(settings.width, settings.height);
+  const uint32_t minSamples = static_cast<uint32_t>(adaptive.minSamples);
+  const uint32_t maxSamples = static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
+  const auto start = std::chrono::steady_clock::now();
+  const bool timed = adaptive.timeLimit > 0;
+  const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(timed ? adaptive.timeLimit : 0));
+  std::atomic<bool> timeUp{false}, cancelled{false};
+  SamplingReport report;
+  uint32_t target = std::min(minSamples, maxSamples);
+  for (int pass = 0;; ++pass) {
+    std::atomic<size_t> tilesDone{0};
+    tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
+      setFlushToZero();
+      static thread_local TileWork<Accel> work;
+      RayCounts &local = perThread.local();
+      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
+        const TileRect rect(tile, tilesX, settings.width, settings.height);
+        if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) continue;
+        // The first pass always completes: every pixel needs a value.
+        if (pass > 0) {
+          if (stopped()) {
+            cancelled = true;
+            continue;
+          }
+          if (timed && std::chrono::steady_clock::now() >= deadline) {
+            timeUp = true;
+            continue;
+          }
+        }
+        const size_t count = rect.pixels();
+        for (size_t i = 0; i < count; ++i) {
+          const size_t p = buffer.index(rect.x0 + static_cast<int>(i) % rect.width(),
+                                        rect.y0 + static_cast<int>(i) / rect.width());
+          work.first[i] = buffer.active(p) ? buffer.count(p) : target;
+        }
+        sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
+                   [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
+                       double &py) {
+                     owenSobol2D(s, pixelPatternSeed(settings.frameIndex, pixel), px, py);
+                     px += x;
+                     py += y;
+                   },
+                   work, local);
+        for (size_t i = 0; i < count; ++i) {
+          if (!work.taken[i]) continue;
+          const size_t p = buffer.index(rect.x0 + static_cast<int>(i) % rect.width(),
+                                        rect.y0 + static_cast<int>(i) / rect.width());
+          buffer.add(p, work.sums[i], work.oddSums[i], work.taken[i]);
+        }
+        size_t done = ++tilesDone;
+        if (progress) progress(done, tileCount);
+      }
+    });
+    ++report.passes;
+    if (timeUp || cancelled || target >= maxSamples) break;
+    if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
+    if (timed && std::chrono::steady_clock::now() >= deadline) {
+      timeUp = true;
+      break;
+    }
+    if (stopped()) {
+      cancelled = true;
+      break;
+    }
+    // Each pass adds half the samples taken so far (at least the first
+    // pass's): the error falls by about a fifth per pass, and a pixel
+    // overshoots its threshold by at most half its samples.
+    const uint32_t step = std::max(minSamples, target / 4 * 2);
+    target = std::min(maxSamples, target + step);
+  }
   perThread.combine_each([&](const RayCounts &c) { counts += c; });
+  buffer.writeTo(film);
+  if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
+  film.report.passes = report.passes;
+  film.report.timeLimitHit = timeUp;
+  film.report.cancelled = cancelled;
 }
 
 } // namespace lray

@@ -25,6 +25,7 @@ struct SceneInfo {
   int imageHeight = 600;
   int frames = 1;
   int samples = 1; ///< n: an n x n grid of samples per pixel
+  double noiseThreshold = 0; ///< > 0: adaptive sampling to this error estimate
   double startClock = 0;
   double endClock = 1;
 

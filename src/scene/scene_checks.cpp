@@ -19,6 +19,8 @@ void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::str
   positive(info.imageHeight, "image_height");
   positive(info.frames, "frames");
   positive(info.samples, "samples");
+  if (!(info.noiseThreshold >= 0) || !std::isfinite(info.noiseThreshold))
+    throw SceneError(loc, "SceneInfo: noise_threshold must be a finite number >= 0");
   if (!std::isfinite(info.startClock) || !std::isfinite(info.endClock))
     throw SceneError(loc, "SceneInfo: start_clock and end_clock must be finite numbers");
   // 128-bit-safe: each factor is below 2^31, so do it in long double steps.

@@ -45,7 +45,14 @@ public:
   /// Precomputes the material table, prepared lights and resolved image
   /// pointers once per frame. `scene`, `accel` and `images` must outlive it.
   /// Throws SceneError if an image of the scene was not loaded into `images`.
-  Integrator(const Scene &scene, const Accel &accel, const ImageCache &images);
+  /// `lightShares` > 1 spreads each light's cells over a pixel's samples:
+  /// a light of K cells is cut into G = min(lightShares, K) interleaved
+  /// shares (cells t, t + G, t + 2G, ...); a sample shades only share
+  /// `sampler.lightStratum % G`, each cell weighted G. A pixel's stratum is
+  /// offset by a random amount, so every share is equally likely for every
+  /// sample and the expected value is that of shading every cell (1).
+  Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
+             uint32_t lightShares = 1);
   // Holds pointers into its own tables.
   Integrator(const Integrator &) = delete;
   Integrator &operator=(const Integrator &) = delete;
@@ -72,6 +79,11 @@ public:
   Color trace(const Ray &ray, Sampler &sampler, RayCounts &counts) const;
 
   Color background() const { return background_; }
+
+  /// The pigment colour at a hit: the albedo a denoiser takes (--aovs).
+  Color albedo(const Hit &hit) const {
+    return evaluatePigment(pigmentTable_, materials_.ofEntity(hit.entity).pigment, hit);
+  }
 
 private:
   /// What shading needs of a hit before any ray is traced.
@@ -130,6 +142,7 @@ private:
   std::vector<const TextureImage *> images_;
   std::vector<LightSampler> lights_; ///< the emitting lights, prepared
   MaterialTable materials_;
+  uint32_t lightShares_;
 };
 
 } // namespace lray

@@ -30,9 +30,11 @@ inline std::vector<LightSampler> prepareLights(const Scene &scene) {
 } // namespace integrator_detail
 
 template <class Accel>
-Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const ImageCache &images)
+Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
+                              uint32_t lightShares)
     : accel_(accel), background_(scene.background),
-      lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()) {
+      lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()),
+      lightShares_(std::max<uint32_t>(1, lightShares)) {
   images_.reserve(scene.images.size());
   for (const ImageRef &ref : scene.images) {
     const TextureImage *image = images.find(ref.path);
@@ -91,11 +93,20 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           // Every sample of the light brings the same light (its own colour
           // need not be stored or tested per shadow ray).
           constexpr bool kUniform = std::decay_t<decltype(source)>::kUniformColor;
-          const int samples = source.sampleCount();
-          for (int k = 0; k < samples; ++k) {
+          const int cells = source.sampleCount();
+          // Spread light sampling: this sample shades one share of the cells.
+          const int shares = static_cast<int>(std::min<uint32_t>(lightShares_, cells));
+          const int rounds = (cells + shares - 1) / shares;
+          const double shareWeight = shares;
+          for (int round = 0; round < rounds; ++round) {
             size_t n = 0;
             for (size_t i = 0; i < count; ++i) {
               if ((found && !found[i]) || !surfaces[i].m->lit) continue;
+              int k = round;
+              if (shares > 1) {
+                k = round * shares + static_cast<int>(samplers[i].lightStratum % shares);
+                if (k >= cells) continue;
+              }
               const Hit &hit = hits[i];
               const LightSample sample = source.sample(k, hit.p, samplers[i]);
               auto &p = pending[n];
@@ -126,8 +137,9 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               const Surface &s = surfaces[p.ray];
               const Color diffuseColor = s.pigment * s.m->finish.diffuse;
               const Color &lightColor = kUniform ? source.uniformColor() : p.dir.color;
-              sums[p.ray] +=
-                  lightColor * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
+              Color lit = lightColor * phongColor(s.n, s.v, p.dir.l, p.dir.nl, diffuseColor, *s.m);
+              if (shares > 1) lit = lit * shareWeight;
+              sums[p.ray] += lit;
             }
           }
           counts.shadow += shadow;

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace lray {
 
@@ -24,9 +25,11 @@ struct OiioLibrary {
   /// SceneError naming the path on failure.
   TextureImage (*readImage)(const std::string &path, bool linearWorkflow,
                             const SourceLocation &loc);
-  /// Writes width x height RGB floats (row 0 = top) to `path` in the format
-  /// of its extension; "" on success, else the reason.
-  std::string (*writeFloat)(const std::string &path, int width, int height, const float *rgb);
+  /// Writes width x height pixels of channels.size() interleaved floats
+  /// (row 0 = top), the channels named as given, to `path` in the format of
+  /// its extension; "" on success, else the reason.
+  std::string (*writeFloat)(const std::string &path, int width, int height,
+                            const std::vector<std::string> &channels, const float *pixels);
 };
 
 /// The module, loaded once (thread-safe); throws std::runtime_error naming

@@ -90,11 +90,13 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   return image;
 }
 
-std::string writeFloat(const std::string &path, int width, int height, const float *rgb) {
+std::string writeFloat(const std::string &path, int width, int height,
+                       const std::vector<std::string> &channels, const float *pixels) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) return OIIO::geterror();
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::FLOAT);
-  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb) || !out->close())
+  OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = channels;
+  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close())
     return out->geterror();
   return {};
 }

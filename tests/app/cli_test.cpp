@@ -170,6 +170,78 @@ TEST_F(LrayCli, StatsJsonCountsRays) {
   EXPECT_NE(json.find("\"build\""), std::string::npos);
 }
 
+TEST_F(LrayCli, AdaptiveSamplingReportsItsPassesSamplesAndError) {
+  fs::path scene = writeScene("ad.lua", kSpheres);
+  fs::path stats = dir_ / "stats.json";
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() +
+                     " --quiet --frames 1 --noise-threshold 0.05 --min-samples 4 --max-samples 64 "
+                     "--stats " + stats.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "o" / "ad0001.png"));
+  std::string json = readFile(stats);
+  EXPECT_NE(json.find(R"("mode": "adaptive", "light_sampling": "spread", "noise_threshold": 0.05, )"
+                      R"("min_samples": 4, "max_samples": 64)"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"passes\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"max_pixel_samples\": 64"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"time_limit_hit\": false"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"error\": {\"mean\": null"), std::string::npos) << json;
+}
+
+TEST_F(LrayCli, SceneInfoNoiseThresholdTurnsOnAdaptiveSampling) {
+  std::string text = kSpheres;
+  text.replace(text.find("samples = 2"), 11, "noise_threshold = 0.1");
+  fs::path scene = writeScene("nt.lua", text);
+  fs::path stats = dir_ / "stats.json";
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() + " --quiet --frames 0 --stats " +
+                     stats.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(readFile(stats).find("\"mode\": \"adaptive\""), std::string::npos);
+}
+
+TEST_F(LrayCli, SamplingOptionsThatContradictEachOtherAreRefused) {
+  fs::path scene = writeScene("c.lua", kSpheres);
+  const std::string base = scene.string() + " " + (dir_ / "o").string() + " --quiet ";
+  Result r = runLray(base + "--samples 2 --noise-threshold 0.01");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--samples sets fixed n x n sampling"), std::string::npos) << r.output;
+  r = runLray(base + "--max-samples 8");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("apply to adaptive sampling"), std::string::npos) << r.output;
+  r = runLray(base + "--noise-threshold 0.01 --min-samples 64 --max-samples 8");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--min-samples (64) is above --max-samples (8)"), std::string::npos)
+      << r.output;
+  r = runLray(base + "--light-sampling some");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--light-sampling: unknown value 'some' (expected all or spread"),
+            std::string::npos)
+      << r.output;
+  r = runLray(base + "--aovs");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--aovs needs EXR output"), std::string::npos) << r.output;
+  r = runLray(base + "--noise-threshold -1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("expects a number >= 0, got '-1'"), std::string::npos) << r.output;
+  r = runLray(base + "--noise-threshold 0.01 --max-samples 1000000000 -w 100 -H 100");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("max samples = 10000000000000 exceeds the limit"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "o" / "c0000.png"));
+}
+
+TEST_F(LrayCli, TimeLimitWritesTheImageItReached) {
+  fs::path scene = writeScene("tl.lua", kSpheres);
+  fs::path stats = dir_ / "stats.json";
+  Result r = runLray(scene.string() + " " + (dir_ / "o").string() +
+                     " --quiet --frames 0 --time-limit 0.3 --max-samples 200000 --stats " +
+                     stats.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "o" / "tl0000.png"));
+  EXPECT_NE(readFile(stats).find("\"time_limit_hit\": true"), std::string::npos);
+}
+
 TEST_F(LrayCli, StatsOverADirectoryIsAnErrorThatLeavesNoTemporaryFile) {
   fs::path scene = writeScene("st.lua", kSpheres);
   fs::path stats = dir_ / "stats.json";

@@ -5,6 +5,8 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <filesystem>
 
 namespace lray {
@@ -75,6 +77,41 @@ TEST(ImageWriter, ExrKeepsUnclampedFloats) {
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
   EXPECT_FLOAT_EQ(px[11], 2.0f);
   EXPECT_FLOAT_EQ(px[10], 0.25f);
+  fs::remove_all(dir);
+}
+
+TEST(ImageWriter, ExrCarriesTheErrorEstimateSampleCountAndAovLayers) {
+  fs::path dir = freshDir("exr_layers");
+  Film film = testFilm();
+  film.setError(1, 0, 0.125f);
+  film.setSampleCount(1, 0, 64);
+  film.enableAovs();
+  film.aov(1, 0) = {3.5f, {0, 1, 0}, {0.9f, 0.5f, 0.1f}};
+  std::string path = (dir / "a.exr").string();
+  writeImage(film, path, ImageFormat::Exr, false);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  const std::vector<std::string> expected{"R", "G", "B", "Error", "SampleCount", "Z", "N.X",
+                                          "N.Y", "N.Z", "Albedo.R", "Albedo.G", "Albedo.B"};
+  // OpenEXR stores channels sorted by name; OpenImageIO gives them back in
+  // its own order, so compare as sets and read each by name.
+  const auto &names = in->spec().channelnames;
+  ASSERT_EQ(std::set<std::string>(names.begin(), names.end()),
+            std::set<std::string>(expected.begin(), expected.end()));
+  const int nc = in->spec().nchannels;
+  std::vector<float> px(static_cast<size_t>(nc) * 2 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data()));
+  auto at = [&](int x, int y, const std::string &name) {
+    const int c = in->spec().channelindex(name);
+    return px[(static_cast<size_t>(y) * 3 + x) * nc + c];
+  };
+  EXPECT_FLOAT_EQ(at(1, 0, "Error"), 0.125f);
+  EXPECT_FLOAT_EQ(at(1, 0, "SampleCount"), 64);
+  EXPECT_FLOAT_EQ(at(1, 0, "Z"), 3.5f);
+  EXPECT_FLOAT_EQ(at(1, 0, "N.Y"), 1);
+  EXPECT_FLOAT_EQ(at(1, 0, "Albedo.R"), 0.9f);
+  EXPECT_FLOAT_EQ(at(0, 1, "B"), 2.0f);
+  EXPECT_FLOAT_EQ(at(0, 1, "G"), 0.25f);
   fs::remove_all(dir);
 }
 

@@ -1,0 +1,70 @@
+// Pipeline: render. Pixel sample positions for progressive (adaptive)
+// sampling: the first two dimensions of the Sobol sequence, Owen-scrambled
+// with a per-pixel seed (Burley 2020, "Practical Hash-based Owen
+// Scrambling", JCGT 9(4)). Every prefix of 2^m samples is a (0,m,2)-net, so
+// a pixel's samples stay stratified wherever the adaptive sampler stops it,
+// and the scramble decorrelates neighbouring pixels.
+#pragma once
+
+#include "math/random.h"
+
+#include <cstdint>
+
+namespace lray {
+
+namespace owen_detail {
+
+inline uint32_t reverseBits(uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+/// A hash in which each bit depends only on the bits below it: applied to
+/// bit-reversed values it flips each digit depending only on the digits
+/// above it, which is Owen's nested uniform scramble (Laine and Karras 2011;
+/// constants from Burley 2020).
+inline uint32_t laineKarras(uint32_t x, uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+inline uint32_t nestedScramble(uint32_t x, uint32_t seed) {
+  return reverseBits(laineKarras(reverseBits(x), seed));
+}
+
+/// Sobol dimension 2 (the first is the van der Corput sequence): its
+/// direction numbers are v_0 = 2^31, v_i = v_{i-1} ^ (v_{i-1} >> 1).
+inline uint32_t sobolSecond(uint32_t index) {
+  uint32_t v = 1u << 31, x = 0;
+  for (; index; index >>= 1, v ^= v >> 1)
+    if (index & 1) x ^= v;
+  return x;
+}
+
+} // namespace owen_detail
+
+/// Sample `index` of the pixel whose scramble seed is `seed`: a position in
+/// [0,1)^2 inside the pixel. The index is shuffled first (an Owen scramble
+/// of the index, which maps every aligned block of 2^m indices onto an
+/// aligned block of 2^m Sobol points, so prefixes stay nets): without it,
+/// Sobol points 2k and 2k+1 always fall in opposite halves of the pixel,
+/// and the odd-numbered half of the error estimate would see only one side
+/// of an edge however many samples a pixel took.
+inline void owenSobol2D(uint32_t index, uint64_t seed, double &x, double &y) {
+  using namespace owen_detail;
+  const uint32_t shuffle = static_cast<uint32_t>(seed >> 32);
+  const uint32_t sx = static_cast<uint32_t>(mix64(seed));
+  const uint32_t sy = static_cast<uint32_t>(mix64(seed ^ 0x5851f42d4c957f2dULL));
+  const uint32_t i = nestedScramble(index, shuffle);
+  x = nestedScramble(reverseBits(i), sx) * 0x1.0p-32;
+  y = nestedScramble(sobolSecond(i), sy) * 0x1.0p-32;
+}
+
+} // namespace lray

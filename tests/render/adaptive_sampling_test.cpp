@@ -1,0 +1,360 @@
+// Tests for adaptive sampling and spread light sampling (render/
+// tile_renderer_impl.h, sample_buffer.h, pixel_error.h, owen_sobol.h):
+// determinism across thread counts, the stopping rule, error against a
+// converged reference falling with the threshold, the unbiasedness of
+// spreading a light's cells over a pixel's samples, and time limits.
+#include "accel/accelerator.h"
+#include "render/owen_sobol.h"
+#include "render/pixel_error.h"
+#include "render/renderer.h"
+#include "render/sample_buffer.h"
+#include "shading/image_cache.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <set>
+
+namespace lray {
+namespace {
+
+/// A white floor, a red sphere and a cube between them and a 4 x 4 jittered
+/// area light: hard edges, a penumbra and flat regions in 48 x 32 pixels.
+Scene penumbraScene() {
+  Scene s;
+  auto texture = [&](const Color &c, double specular) {
+    Pigment p;
+    p.pattern = ColorPigment{c};
+    s.pigments.push_back(p);
+    Finish f;
+    f.specular = specular;
+    f.exponent = 20;
+    s.textures.push_back({f, static_cast<uint32_t>(s.pigments.size() - 1)});
+    return static_cast<uint32_t>(s.textures.size() - 1);
+  };
+  auto add = [&](Shape shape, const Transform &t, uint32_t tex) {
+    Entity e;
+    e.shape = shape;
+    e.worldFromObject = t;
+    e.texture = tex;
+    s.entities.push_back(e);
+  };
+  add(Plane{}, Transform(), texture({0.9, 0.9, 0.9}, 0));
+  add(Sphere{}, Transform::translate({-0.8, 1, 0}), texture({0.9, 0.2, 0.2}, 0.5));
+  add(Cube{}, Transform::translate({1.2, 0.6, -0.5}) * Transform::scale(1.2, 1.2, 1.2),
+      texture({0.2, 0.3, 0.9}, 0));
+  Light light;
+  light.rows = light.cols = 4;
+  light.area = true;
+  light.worldFromLight = Transform::translate({-3, 5, -2}) * Transform::scale(2, 1, 2);
+  s.lights.push_back(light);
+  s.background = {0.05, 0.05, 0.1};
+  s.camera.fov = 50;
+  s.camera.aspect = 1.5;
+  s.camera.worldFromCamera = Transform::lookAt({0, 3, -6}, {0, 0.7, 0}, {0, 1, 0});
+  return s;
+}
+
+constexpr int kWidth = 48, kHeight = 32;
+
+FrameSettings fixedSettings(int n, LightSampling light = LightSampling::All, int frame = 0) {
+  FrameSettings fs;
+  fs.width = kWidth;
+  fs.height = kHeight;
+  fs.samples = n;
+  fs.lightSampling = light;
+  fs.frameIndex = frame;
+  return fs;
+}
+
+FrameSettings adaptiveSettings(double threshold, int minSamples, int maxSamples,
+                               LightSampling light = LightSampling::Spread) {
+  FrameSettings fs = fixedSettings(1, light);
+  fs.adaptive = true;
+  fs.adaptiveSettings.noiseThreshold = threshold;
+  fs.adaptiveSettings.minSamples = minSamples;
+  fs.adaptiveSettings.maxSamples = maxSamples;
+  return fs;
+}
+
+Film render(const Scene &scene, const Accelerator &accel, const FrameSettings &fs,
+            RayCounts *countsOut = nullptr) {
+  ImageCache images(false);
+  RayCounts counts;
+  Film film = renderFrame(scene, accel, images, fs, counts);
+  if (countsOut) *countsOut = counts;
+  return film;
+}
+
+double rmse(const Film &a, const Film &b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.data().size(); ++i) {
+    const double d = a.data()[i] - b.data()[i];
+    sum += d * d;
+  }
+  return std::sqrt(sum / static_cast<double>(a.data().size()));
+}
+
+class AdaptiveSampling : public ::testing::TestWithParam<BackendKind> {
+protected:
+  Scene scene = penumbraScene();
+  std::unique_ptr<Accelerator> accel = makeAccelerator(GetParam(), scene);
+};
+
+TEST_P(AdaptiveSampling, SameBytesSamplesAndEstimatesForAnyThreadCount) {
+  const FrameSettings fs = adaptiveSettings(0.02, 4, 64);
+  Film one = [&] {
+    tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
+    return render(scene, *accel, fs);
+  }();
+  Film many = [&] {
+    tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
+    return render(scene, *accel, fs);
+  }();
+  EXPECT_EQ(one.data(), many.data());
+  EXPECT_EQ(one.errorData(), many.errorData());
+  EXPECT_EQ(one.report.samples, many.report.samples);
+  EXPECT_GT(one.report.passes, 1);
+}
+
+TEST_P(AdaptiveSampling, EveryPixelStopsConvergedWithItsNeighboursOrAtTheMaximum) {
+  const double threshold = 0.03;
+  const int minSamples = 8, maxSamples = 128;
+  Film film = render(scene, *accel, adaptiveSettings(threshold, minSamples, maxSamples));
+  uint32_t fewest = UINT32_MAX, most = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const uint32_t n = film.sampleCount(x, y);
+      fewest = std::min(fewest, n);
+      most = std::max(most, n);
+      if (n >= static_cast<uint32_t>(maxSamples)) continue;
+      // Stopped early: it and all its neighbours below the threshold (or
+      // at the maximum).
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
+          if (film.sampleCount(nx, ny) >= static_cast<uint32_t>(maxSamples)) continue;
+          EXPECT_LT(film.error(nx, ny), threshold) << nx << "," << ny << " next to " << x << "," << y;
+        }
+    }
+  }
+  // The flat floor stops after the first pass; edges and the penumbra do not.
+  EXPECT_EQ(fewest, static_cast<uint32_t>(minSamples));
+  EXPECT_GT(most, static_cast<uint32_t>(2 * minSamples));
+  EXPECT_LT(film.report.samples, static_cast<uint64_t>(maxSamples) * kWidth * kHeight / 2)
+      << "adaptive sampling should spend well under the maximum on this scene";
+}
+
+TEST_P(AdaptiveSampling, ErrorAgainstAConvergedReferenceFallsWithTheThreshold) {
+  const Film reference = render(scene, *accel, fixedSettings(24));
+  double lastError = 1e9;
+  uint64_t lastSamples = 0;
+  for (double threshold : {0.2, 0.05, 0.012, 0.003}) {
+    const Film film = render(scene, *accel, adaptiveSettings(threshold, 4, 512));
+    const double error = rmse(film, reference);
+    EXPECT_GT(film.report.samples, lastSamples) << threshold;
+    EXPECT_LT(error, lastError) << threshold;
+    lastError = error;
+    lastSamples = film.report.samples;
+  }
+  // No error floor: the smallest threshold is within a few times the
+  // reference's own noise of it.
+  EXPECT_LT(lastError, 0.01);
+}
+
+TEST_P(AdaptiveSampling, ZeroThresholdTakesTheMaximumEverywhere) {
+  const Film film = render(scene, *accel, adaptiveSettings(0, 4, 24));
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) ASSERT_EQ(film.sampleCount(x, y), 24u);
+  EXPECT_EQ(film.report.samples, 24u * kWidth * kHeight);
+  // 4, 8, 12, 18, 24.
+  EXPECT_EQ(film.report.passes, 5);
+}
+
+TEST_P(AdaptiveSampling, SpreadShadesEachCellOncePerPixelAcrossItsSamples) {
+  // 4 x 4 samples and 16 cells: spread casts one shadow ray per lit sample,
+  // all casts sixteen.
+  RayCounts all, spread;
+  render(scene, *accel, fixedSettings(4, LightSampling::All), &all);
+  render(scene, *accel, fixedSettings(4, LightSampling::Spread), &spread);
+  EXPECT_EQ(all.camera, spread.camera);
+  EXPECT_GT(spread.shadow, 0u);
+  EXPECT_NEAR(static_cast<double>(all.shadow) / static_cast<double>(spread.shadow), 16, 0.5);
+}
+
+/// Mean over many random streams (frame indices) of a block of pixels.
+struct BlockMeans {
+  static constexpr int kBlock = 8;
+  std::vector<double> sum, sumSquares;
+  int runs = 0;
+  BlockMeans() : sum((kWidth / kBlock) * (kHeight / kBlock), 0), sumSquares(sum.size(), 0) {}
+  void add(const Film &film) {
+    std::vector<double> block(sum.size(), 0);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const Color c = film.get(x, y);
+        block[(y / kBlock) * (kWidth / kBlock) + x / kBlock] += c.r + c.g + c.b;
+      }
+    for (size_t i = 0; i < block.size(); ++i) {
+      sum[i] += block[i];
+      sumSquares[i] += block[i] * block[i];
+    }
+    ++runs;
+  }
+  double mean(size_t i) const { return sum[i] / runs; }
+  double standardError(size_t i) const {
+    const double m = mean(i);
+    return std::sqrt(std::max(0.0, sumSquares[i] / runs - m * m) / (runs - 1));
+  }
+};
+
+TEST_P(AdaptiveSampling, SpreadHasTheSameExpectedValueAsAllCells) {
+  // Each run's random stream is keyed by its frame index. Per 8 x 8 block,
+  // the means of 48 runs of each mode agree within 4.5 standard errors;
+  // the penumbra blocks carry the spread's extra variance.
+  constexpr int kRuns = 48;
+  BlockMeans all, spread, spreadAdaptive;
+  for (int run = 0; run < kRuns; ++run) {
+    all.add(render(scene, *accel, fixedSettings(2, LightSampling::All, run)));
+    spread.add(render(scene, *accel, fixedSettings(2, LightSampling::Spread, run)));
+    FrameSettings fs = adaptiveSettings(0, 8, 8);
+    fs.frameIndex = run;
+    spreadAdaptive.add(render(scene, *accel, fs));
+  }
+  int differing = 0;
+  for (size_t i = 0; i < all.sum.size(); ++i) {
+    for (const BlockMeans *other : {&spread, &spreadAdaptive}) {
+      const double se = std::hypot(all.standardError(i), other->standardError(i));
+      const double gap = std::abs(all.mean(i) - other->mean(i));
+      EXPECT_LT(gap, 4.5 * se + 1e-9) << "block " << i;
+      if (gap > 1e-9) ++differing;
+    }
+  }
+  // The modes are not the same computation (the test can fail).
+  EXPECT_GT(differing, 0);
+}
+
+TEST_P(AdaptiveSampling, TimeLimitStopsAfterTheFirstPassWithinAboutOneTile) {
+  // Far more work than the limit allows: 65536 samples per pixel.
+  FrameSettings fs = adaptiveSettings(0, 2, 65536);
+  fs.adaptiveSettings.timeLimit = 0.2;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Film film = render(scene, *accel, fs);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(film.report.timeLimitHit);
+  EXPECT_GE(film.report.passes, 2);
+  // Generous: a tile's work is milliseconds; only the machine's load matters.
+  EXPECT_LT(seconds, 0.2 + 3.0);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) ASSERT_GE(film.sampleCount(x, y), 2u);
+}
+
+TEST_P(AdaptiveSampling, CancelStopsAfterTheFirstPass) {
+  std::atomic<bool> cancel{true};
+  FrameSettings fs = adaptiveSettings(0, 4, 4096);
+  fs.cancel = &cancel;
+  const Film film = render(scene, *accel, fs);
+  EXPECT_TRUE(film.report.cancelled);
+  EXPECT_EQ(film.report.passes, 1);
+  EXPECT_EQ(film.report.samples, 4u * kWidth * kHeight);
+}
+
+TEST_P(AdaptiveSampling, FixedSamplingReportsTheEstimateOfItsHalves) {
+  const Film film = render(scene, *accel, fixedSettings(3));
+  EXPECT_TRUE(film.report.hasError);
+  EXPECT_GT(film.report.maxError, film.report.meanError);
+  EXPECT_GT(film.report.meanError, 0);
+  EXPECT_EQ(film.report.samples, 9u * kWidth * kHeight);
+  const Film one = render(scene, *accel, fixedSettings(1));
+  EXPECT_FALSE(one.report.hasError);
+}
+
+TEST_P(AdaptiveSampling, AovsGiveDepthNormalAndAlbedoOfTheFirstHit) {
+  FrameSettings fs = adaptiveSettings(0.05, 4, 16);
+  fs.aovs = true;
+  const Film film = render(scene, *accel, fs);
+  ASSERT_TRUE(film.hasAovs());
+  // The bottom-left corner sees only the white floor: its albedo, a
+  // normal turned up and towards the camera (camera space: +y, -z), a
+  // depth of a few units.
+  const Film::Aov &floor = film.aov(0, kHeight - 1);
+  EXPECT_NEAR(floor.albedo[0], 0.9, 1e-6);
+  EXPECT_GT(floor.n[1], 0.5);
+  EXPECT_LT(floor.n[2], 0);
+  EXPECT_NEAR(std::hypot(floor.n[0], floor.n[1], floor.n[2]), 1, 1e-6);
+  EXPECT_GT(floor.z, 1);
+  EXPECT_LT(floor.z, 10);
+  // The top row looks over the horizon: the far floor or nothing; a
+  // pixel whose rays all miss has infinite depth and zero albedo.
+  int missed = 0;
+  for (int x = 0; x < kWidth; ++x) {
+    const Film::Aov &a = film.aov(x, 0);
+    if (std::isinf(a.z)) {
+      ++missed;
+      EXPECT_EQ(a.albedo[0], 0);
+    } else {
+      EXPECT_GT(a.z, floor.z);
+    }
+  }
+  // Without the option, no layers.
+  EXPECT_FALSE(render(scene, *accel, adaptiveSettings(0.05, 4, 16)).hasAovs());
+  (void)missed;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, AdaptiveSampling,
+                         ::testing::Values(BackendKind::Embree, BackendKind::KdTree),
+                         [](const auto &param) { return std::string(backendName(param.param)); });
+
+TEST(PixelError, HalvesThatAgreeGiveZeroAndTheFormulaOtherwise) {
+  EXPECT_EQ(pixelError({4, 4, 4}, {2, 2, 2}, 4), 0);
+  EXPECT_EQ(pixelError({1, 1, 1}, {0, 0, 0}, 1), 0); // one sample: no estimate
+  // All = (1, 0, 0) over 4 samples; odd half = (0.5, 0, 0).
+  EXPECT_NEAR(pixelError({4, 0, 0}, {1, 0, 0}, 4), 0.5 / (1e-4 + 1), 1e-12);
+}
+
+TEST(OwenSobol, EveryAlignedBlockOfPowerOfTwoSamplesIsStratified) {
+  // (0, m, 2)-net: each elementary interval of area 2^-m holds one point.
+  for (uint64_t seed : {1ull, 77ull, 0xdeadbeefcafeull}) {
+    for (int m : {2, 4, 6}) {
+      const uint32_t count = 1u << m;
+      for (uint32_t block : {0u, 1u, 5u}) {
+        for (int a = 0; a <= m; ++a) {
+          std::set<std::pair<int, int>> cells;
+          for (uint32_t i = 0; i < count; ++i) {
+            double x, y;
+            owenSobol2D(block * count + i, seed, x, y);
+            ASSERT_GE(x, 0);
+            ASSERT_LT(x, 1);
+            cells.insert({static_cast<int>(x * (1 << a)), static_cast<int>(y * (1 << (m - a)))});
+          }
+          EXPECT_EQ(cells.size(), count) << "seed " << seed << " m " << m << " block " << block;
+        }
+      }
+    }
+  }
+  // Different seeds, different points.
+  double x1, y1, x2, y2;
+  owenSobol2D(3, 1, x1, y1);
+  owenSobol2D(3, 2, x2, y2);
+  EXPECT_NE(x1, x2);
+}
+
+TEST(SampleBuffer, AnUnconvergedPixelKeepsItsEightNeighboursActive) {
+  SampleBuffer buffer(5, 5);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) buffer.add(buffer.index(x, y), {4, 4, 4}, {2, 2, 2}, 4);
+  buffer.add(buffer.index(1, 1), {4, 0, 0}, {0, 0, 0}, 0); // pixel (1,1): halves disagree
+  EXPECT_EQ(buffer.updateActive(0.01, 100), 9u);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x)
+      EXPECT_EQ(buffer.active(buffer.index(x, y)), x <= 2 && y <= 2) << x << "," << y;
+  // At the maximum, nothing stays active.
+  EXPECT_EQ(buffer.updateActive(0.01, 4), 0u);
+}
+
+} // namespace
+} // namespace lray

@@ -27,7 +27,7 @@ struct AdaptiveSettings {
 struct FrameSettings {
   int width = 800;
   int height = 600;
-  int samples = 1;    ///< n: n x n stratified jittered samples per pixel (fixed sampling)
+  int samples = 1;    ///< n: n x n samples per pixel (fixed sampling; 1: the pixel centre)
   int frameIndex = 0; ///< part of the random-stream key
   bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
   AdaptiveSettings adaptiveSettings;

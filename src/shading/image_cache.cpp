@@ -1,8 +1,10 @@
 // Pipeline: shading. The cache of decoded texture images; decoding itself is
-// OpenImageIO's, in the module oiio_module.cpp.
+// stb_image's for 8-bit PNG and TGA (texture_file.h), else OpenImageIO's,
+// in the module oiio_module.cpp.
 #include "shading/image_cache.h"
 
 #include "shading/oiio_library.h"
+#include "shading/texture_file.h"
 
 #include <array>
 #include <cmath>
@@ -15,6 +17,8 @@ ImageCache::ImageCache(bool linearWorkflow) : linear_(linearWorkflow) {}
 
 TextureImage ImageCache::readImage(const std::string &path, bool linearWorkflow,
                                    const SourceLocation &loc) {
+  if (std::optional<TextureImage> image = decodeEightBitTexture(path, linearWorkflow, loc))
+    return std::move(*image);
   return oiioLibrary().readImage(path, linearWorkflow, loc);
 }
 

@@ -4,6 +4,7 @@
 // the renderer does not load OpenImageIO's 260 libraries when a scene has
 // no image texture and the output is PNG or TGA.
 #include "shading/oiio_library.h"
+#include "shading/texel_convert.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -14,29 +15,6 @@
 
 namespace lray {
 namespace {
-
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-/// Packs `nch` channels per texel into RGB: grey (and grey + alpha) is
-/// replicated, alpha and further channels dropped.
-template <class T, class Convert>
-void toRgb(const std::vector<T> &src, int nch, size_t texels, std::vector<float> &rgb,
-           Convert convert) {
-  rgb.resize(3 * texels);
-  for (size_t k = 0; k < texels; ++k) {
-    const T *px = &src[k * nch];
-    if (nch >= 3) {
-      rgb[3 * k] = convert(px[0]);
-      rgb[3 * k + 1] = convert(px[1]);
-      rgb[3 * k + 2] = convert(px[2]);
-    } else {
-      float g = convert(px[0]);
-      rgb[3 * k] = rgb[3 * k + 1] = rgb[3 * k + 2] = g;
-    }
-  }
-}
 
 TextureImage readImage(const std::string &path, bool linearWorkflow, const SourceLocation &loc) {
   // Colours as stored: OIIO would otherwise premultiply PNG/TGA colours by
@@ -68,18 +46,14 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   if (spec.format == OIIO::TypeDesc::UINT8) {
     std::vector<uint8_t> data(texels * nch);
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, data.data());
-    std::array<float, 256> lut{};
-    for (int i = 0; i < 256; ++i) {
-      float c = static_cast<float>(i) / 255.0f;
-      lut[i] = linearWorkflow ? srgbToLinear(c) : c;
-    }
-    if (ok) toRgb(data, nch, texels, image.rgb, [&](uint8_t v) { return lut[v]; });
+    const std::array<float, 256> lut = eightBitTable(linearWorkflow);
+    if (ok) toRgb(data.data(), nch, texels, image.rgb, [&](uint8_t v) { return lut[v]; });
   } else {
     std::vector<float> data(texels * nch);
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, data.data());
     // A NaN or Inf texel would poison every pixel that filters it.
     auto finite = [](float v) { return std::isfinite(v) ? v : 0.0f; };
-    if (ok) toRgb(data, nch, texels, image.rgb, finite);
+    if (ok) toRgb(data.data(), nch, texels, image.rgb, finite);
   }
   if (!ok) {
     std::string why = in->geterror();

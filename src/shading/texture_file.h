@@ -1,0 +1,23 @@
+// Pipeline: shading. Decodes the lossless 8-bit formats most scenes use for
+// textures (PNG, and 8/24/32-bit TGA) with stb_image, without loading
+// OpenImageIO: loading it costs about 0.3 s per run, more than rendering a
+// small frame. Anything else (other formats, 16-bit PNG, a file stb cannot
+// decode) is left to OpenImageIO, which gives the same texels for what
+// both read and the error messages for broken files.
+#pragma once
+
+#include "scene/scene_error.h"
+#include "shading/texture_image.h"
+
+#include <optional>
+#include <string>
+
+namespace lray {
+
+/// The texture at `path` if it is an 8-bit PNG or TGA that stb decodes,
+/// else nothing. Throws SceneError (at `loc`) when its header claims more
+/// than kMaxTextureTexels, before allocating anything.
+std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool linearWorkflow,
+                                                  const SourceLocation &loc);
+
+} // namespace lray

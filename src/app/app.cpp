@@ -167,6 +167,7 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   // The first pass's samples are split into two halves for the estimate.
   if (a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
   s.aovs = options.aovs;
+  s.seed = options.seed;
   s.lightSampling =
       options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);
   if (s.adaptive) {

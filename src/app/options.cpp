@@ -101,6 +101,10 @@ ParseResult parseOptions(int argc, const char *const *argv) {
                  "Render each frame progressively for at most SECONDS, then write the best "
                  "image so far")
       ->check(positive);
+  app.add_option("--seed", o.seed,
+                 "Seed of the random sample stream (default 0): another seed renders "
+                 "independent samples of the same picture")
+      ->check(CLI::Range(0u, 4294967295u));
   std::string lightSampling;
   app.add_option("--light-sampling", lightSampling,
                  "Area lights: 'all' (every sample shades every cell; default for fixed "

@@ -23,6 +23,7 @@ struct Options {
   std::optional<double> noiseThreshold;       ///< adaptive sampling (0: fixed)
   std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel
   double timeLimit = 0;                       ///< seconds per frame; 0: none
+  uint32_t seed = 0;                          ///< the random stream's seed
   std::optional<LightSampling> lightSampling; ///< default: all (fixed), spread (adaptive)
   ImageFormat format = ImageFormat::Png;
   bool linear = false;

@@ -82,11 +82,12 @@ std::string toJson(const RunStats &s) {
   const AdaptiveSettings &a = s.sampling.adaptiveSettings;
   out += fmt::format(
       "  \"sampling\": {{\"mode\": \"{}\", \"light_sampling\": \"{}\", \"noise_threshold\": {:.6g}, "
-      "\"min_samples\": {}, \"max_samples\": {}, \"time_limit\": {:.6g}}},\n",
+      "\"min_samples\": {}, \"max_samples\": {}, \"time_limit\": {:.6g}, \"seed\": {}}},\n",
       s.sampling.adaptive ? "adaptive" : "fixed",
       s.sampling.lightSampling == LightSampling::Spread ? "spread" : "all",
       s.sampling.adaptive ? a.noiseThreshold : 0.0, s.sampling.adaptive ? a.minSamples : 0,
-      s.sampling.adaptive ? a.maxSamples : 0, s.sampling.adaptive ? a.timeLimit : 0.0);
+      s.sampling.adaptive ? a.maxSamples : 0, s.sampling.adaptive ? a.timeLimit : 0.0,
+      s.sampling.seed);
   const double pixels = static_cast<double>(s.width) * s.height * static_cast<double>(s.frames.size());
   out += fmt::format("  \"camera_samples\": {},\n  \"samples_per_pixel\": {:.6g},\n", samples,
                      pixels > 0 ? static_cast<double>(samples) / pixels : 0);

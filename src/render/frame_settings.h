@@ -29,6 +29,14 @@ struct FrameSettings {
   int height = 600;
   int samples = 1;    ///< n: n x n samples per pixel (fixed sampling; 1: the pixel centre)
   int frameIndex = 0; ///< part of the random-stream key
+  /// Also part of it (--seed): another seed gives independent samples of
+  /// the same picture; 0 is the default stream.
+  uint32_t seed = 0;
+  /// The frame's random-stream key: frameIndex, and the seed above it.
+  uint64_t stream() const {
+    return static_cast<uint64_t>(static_cast<uint32_t>(frameIndex)) |
+           (static_cast<uint64_t>(seed) << 32);
+  }
   bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
   AdaptiveSettings adaptiveSettings;
   LightSampling lightSampling = LightSampling::All;

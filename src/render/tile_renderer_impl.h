@@ -44,15 +44,15 @@ struct TileRect {
 /// The random offset of a pixel's light strata (Integrator, lightShares):
 /// the same for all its samples, so consecutive samples take consecutive
 /// shares.
-inline uint32_t lightStratumOffset(int frame, uint64_t pixel) {
-  return static_cast<uint32_t>(mix64(mix64(static_cast<uint64_t>(frame) ^ 0x243f6a8885a308d3ULL) ^
+inline uint32_t lightStratumOffset(uint64_t stream, uint64_t pixel) {
+  return static_cast<uint32_t>(mix64(mix64(stream ^ 0x243f6a8885a308d3ULL) ^
                                      pixel) >>
                                32);
 }
 
 /// The Owen scramble seed of a pixel's progressive sample positions.
-inline uint64_t pixelPatternSeed(int frame, uint64_t pixel) {
-  return mix64(mix64(static_cast<uint64_t>(frame) + 0x13198a2e03707344ULL) ^ pixel);
+inline uint64_t pixelPatternSeed(uint64_t stream, uint64_t pixel) {
+  return mix64(mix64(stream + 0x13198a2e03707344ULL) ^ pixel);
 }
 
 /// Work arrays of one thread: the camera rays of one sample index over a
@@ -99,10 +99,10 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
       const int y = rect.y0 + static_cast<int>(i) / tileWidth;
       const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
       Sampler &sampler = work.samplers[rays];
-      sampler = Sampler(static_cast<uint64_t>(settings.frameIndex), pixel, s);
+      sampler = Sampler(settings.stream(), pixel, s);
       if (spreadLight)
         sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
-                               tile_detail::lightStratumOffset(settings.frameIndex, pixel);
+                               tile_detail::lightStratumOffset(settings.stream(), pixel);
       double px, py;
       position(x, y, pixel, s, sampler, px, py);
       work.rays[rays] = camera.generate(px, py);
@@ -216,7 +216,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         py = y + 0.5;
         return;
       }
-      owenSobol2D(s, pixelPatternSeed(settings.frameIndex, pixel), px, py);
+      owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
       px += x;
       py += y;
     };
@@ -302,7 +302,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
                    [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
                        double &py) {
-                     owenSobol2D(s, pixelPatternSeed(settings.frameIndex, pixel), px, py);
+                     owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
                      px += x;
                      py += y;
                    },

@@ -242,6 +242,20 @@ TEST_F(LrayCli, TimeLimitWritesTheImageItReached) {
   EXPECT_NE(readFile(stats).find("\"time_limit_hit\": true"), std::string::npos);
 }
 
+TEST_F(LrayCli, SeedGivesAnotherIndependentStreamAndZeroIsTheDefault) {
+  fs::path scene = writeScene("sd.lua", kSpheres);
+  auto render = [&](const std::string &dir, const std::string &args) {
+    Result r = runLray(scene.string() + " " + (dir_ / dir).string() + " --quiet --frames 1 " + args);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return readFile(dir_ / dir / "sd0001.png");
+  };
+  const std::string plain = render("a", ""), zero = render("b", "--seed 0"),
+                    one = render("c", "--seed 1"), again = render("d", "--seed 1");
+  EXPECT_EQ(plain, zero);
+  EXPECT_EQ(one, again);
+  EXPECT_NE(plain, one);
+}
+
 TEST_F(LrayCli, StatsOverADirectoryIsAnErrorThatLeavesNoTemporaryFile) {
   fs::path scene = writeScene("st.lua", kSpheres);
   fs::path stats = dir_ / "stats.json";

@@ -29,34 +29,24 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   Options o;
   CLI::App app(kDescription, "lray");
   // CLI11's PositiveNumber reports its range with 309 digits of DBL_MAX.
-  const CLI::Validator positive(
-      [](std::string &input) -> std::string {
-        size_t used = 0;
-        double v = 0;
-        try {
-          v = std::stod(input, &used);
-        } catch (const std::exception &) {
-          used = 0;
-        }
-        if (used != input.size() || !(v > 0) || !std::isfinite(v))
-          return "expects a positive number, got '" + input + "'";
-        return {};
-      },
-      "POSITIVE");
-  const CLI::Validator nonNegative(
-      [](std::string &input) -> std::string {
-        size_t used = 0;
-        double v = -1;
-        try {
-          v = std::stod(input, &used);
-        } catch (const std::exception &) {
-          used = 0;
-        }
-        if (used != input.size() || !(v >= 0) || !std::isfinite(v))
-          return "expects a number >= 0, got '" + input + "'";
-        return {};
-      },
-      "NUMBER");
+  auto finiteNumber = [](bool zeroAllowed) {
+    return CLI::Validator(
+        [zeroAllowed](std::string &input) -> std::string {
+          size_t used = 0;
+          double v = -1;
+          try {
+            v = std::stod(input, &used);
+          } catch (const std::exception &) {
+            used = 0;
+          }
+          if (used != input.size() || !std::isfinite(v) || v < 0 || (v == 0 && !zeroAllowed))
+            return std::string(zeroAllowed ? "expects a number >= 0" : "expects a positive number") +
+                   ", got '" + input + "'";
+          return {};
+        },
+        zeroAllowed ? "NUMBER" : "POSITIVE");
+  };
+  const CLI::Validator positive = finiteNumber(false), nonNegative = finiteNumber(true);
   app.set_version_flag("--version", std::string("lray ") + LRAY_VERSION);
   app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
   app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
@@ -85,7 +75,7 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("-H,--height", o.height, "Image height in pixels (overrides scene_info)")
       ->check(positive);
   app.add_option("-s,--samples", o.samples,
-                 "n: n x n jittered samples per pixel (overrides scene_info)")
+                 "n: n x n samples per pixel, fixed sampling (overrides scene_info)")
       ->check(positive);
   app.add_option("--noise-threshold", o.noiseThreshold,
                  "Adaptive sampling: passes of samples until each pixel's error estimate is "

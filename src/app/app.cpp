@@ -168,6 +168,7 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   if (a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
   s.aovs = options.aovs;
   s.seed = options.seed;
+  s.shadowSkips = !options.noShadowSkips;
   s.lightSampling =
       options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);
   if (s.adaptive) {

@@ -109,6 +109,9 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_flag("--aovs", o.aovs,
                "EXR output: add depth (Z), normal (N.X/N.Y/N.Z) and albedo "
                "(Albedo.R/G/B) layers for denoisers and compositors");
+  app.add_flag("--no-shadow-skips", o.noShadowSkips,
+               "Trace every shadow ray, even where nothing lies between a tile and a light "
+               "(the same image; for measuring)");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or informational output");
   app.add_option("--stats", o.statsPath,
                  "Write render statistics as JSON to FILE (times, rays by kind, memory)");

@@ -28,6 +28,7 @@ struct Options {
   ImageFormat format = ImageFormat::Png;
   bool linear = false;
   bool aovs = false; ///< EXR: depth, normal and albedo layers
+  bool noShadowSkips = false;
   bool quiet = false;
   bool unsafe = false;
   std::string statsPath;

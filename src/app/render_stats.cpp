@@ -28,8 +28,8 @@ std::string quoted(const std::string &s) {
 }
 
 std::string raysJson(const RayCounts &r) {
-  return fmt::format(R"({{"camera": {}, "shadow": {}, "reflection": {}, "refraction": {}, "total": {}}})",
-                     r.camera, r.shadow, r.reflection, r.refraction,
+  return fmt::format(R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, "refraction": {}, "total": {}}})",
+                     r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction,
                      r.camera + r.shadow + r.reflection + r.refraction);
 }
 

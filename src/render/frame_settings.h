@@ -42,6 +42,9 @@ struct FrameSettings {
   LightSampling lightSampling = LightSampling::All;
   /// Also fill the film's depth, normal and albedo layers (Film::aov).
   bool aovs = false;
+  /// Skip shadow rays nothing can block (shading/shadow_shaft.h): the same
+  /// image either way; off only to measure or to check that.
+  bool shadowSkips = true;
   /// Set by another thread to stop the render at the next tile boundary
   /// (the first pass of an adaptive render always completes).
   const std::atomic<bool> *cancel = nullptr;

@@ -192,7 +192,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           ? std::max<uint32_t>(1, static_cast<uint32_t>(adaptive.minSamples) / 2)
           : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
   const bool pairedStrata = settings.adaptive;
-  const Integrator<Accel> integrator(scene, accel, images, shares);
+  const Integrator<Accel> integrator(scene, accel, images, shares, settings.shadowSkips);
   const CameraRays camera(scene.camera, settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;

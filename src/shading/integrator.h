@@ -16,6 +16,7 @@
 #include "shading/material_table.h"
 #include "shading/pigment.h"
 #include "shading/ray_counts.h"
+#include "shading/shadow_shaft.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -51,8 +52,10 @@ public:
   /// `sampler.lightStratum % G`, each cell weighted G. A pixel's stratum is
   /// offset by a random amount, so every share is equally likely for every
   /// sample and the expected value is that of shading every cell (1).
+  /// `shadowSkips`: a tile's shadow rays towards a light whose shaft no
+  /// occluder meets are not traced (shadow_shaft.h; the same image).
   Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
-             uint32_t lightShares = 1);
+             uint32_t lightShares = 1, bool shadowSkips = true);
   // Holds pointers into its own tables.
   Integrator(const Integrator &) = delete;
   Integrator &operator=(const Integrator &) = delete;
@@ -143,6 +146,7 @@ private:
   std::vector<LightSampler> lights_; ///< the emitting lights, prepared
   MaterialTable materials_;
   uint32_t lightShares_;
+  ShadowShafts shafts_;
 };
 
 } // namespace lray

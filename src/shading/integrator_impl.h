@@ -31,10 +31,11 @@ inline std::vector<LightSampler> prepareLights(const Scene &scene) {
 
 template <class Accel>
 Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
-                              uint32_t lightShares)
+                              uint32_t lightShares, bool shadowSkips)
     : accel_(accel), background_(scene.background),
       lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()),
       lightShares_(std::max<uint32_t>(1, lightShares)) {
+  if (shadowSkips && !lights_.empty()) shafts_ = ShadowShafts(scene);
   images_.reserve(scene.images.size());
   for (const ImageRef &ref : scene.images) {
     const TextureImage *image = images.find(ref.path);
@@ -126,7 +127,21 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               ++n;
             }
             if (n == 0) continue;
-            if (coherent) {
+            // Nothing between these rays' origins and ends: every one is clear.
+            bool unblocked = false;
+            if (coherent && shafts_.enabled()) {
+              Bounds3 from, to;
+              for (size_t j = 0; j < n; ++j) {
+                from.extend(shadowRays[j].o);
+                to.extend(shadowRays[j].o + shadowRays[j].d);
+              }
+              unblocked = shafts_.clear(from, to);
+            }
+            if (unblocked) {
+              std::fill_n(blocked, n, uint8_t{0});
+              shadow -= n;
+              counts.shadowSkipped += n;
+            } else if (coherent) {
               accel_.occludedCoherent(shadowRays, n, blocked);
             } else {
               for (size_t j = 0; j < n; ++j) blocked[j] = accel_.occluded(shadowRays[j]);

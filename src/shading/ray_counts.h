@@ -9,6 +9,8 @@ namespace lray {
 struct RayCounts {
   uint64_t camera = 0;
   uint64_t shadow = 0;
+  /// Shadow rays not traced because nothing could block them (shadow_shaft.h).
+  uint64_t shadowSkipped = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
   /// Samples whose colour came out NaN or Inf (replaced by black; must stay 0).
@@ -17,6 +19,7 @@ struct RayCounts {
   RayCounts &operator+=(const RayCounts &o) {
     camera += o.camera;
     shadow += o.shadow;
+    shadowSkipped += o.shadowSkipped;
     reflection += o.reflection;
     refraction += o.refraction;
     nonFinite += o.nonFinite;

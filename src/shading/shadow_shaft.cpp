@@ -1,0 +1,101 @@
+// Pipeline: shading. See shadow_shaft.h.
+#include "shading/shadow_shaft.h"
+
+#include "geometry/shape.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lray {
+
+namespace {
+
+/// A box widened by a few ulps of its largest coordinate: the shaft test's
+/// own rounding must not cut off an occluder that touches the shaft.
+Bounds3 widened(const Bounds3 &b) {
+  const double big = std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z),
+                               std::fabs(b.hi.x), std::fabs(b.hi.y), std::fabs(b.hi.z)});
+  const double pad = 16 * std::numeric_limits<double>::epsilon() * big + 1e-300;
+  return {b.lo - Vec3(pad, pad, pad), b.hi + Vec3(pad, pad, pad)};
+}
+
+} // namespace
+
+bool shaftMeetsBox(const Bounds3 &a, const Bounds3 &b, const Bounds3 &c) {
+  double sLo = 0, sHi = 1;
+  // On axis i the swept box spans [(1-s) a.lo + s b.lo, (1-s) a.hi + s b.hi];
+  // it overlaps [c.lo, c.hi] when lo(s) <= c.hi and hi(s) >= c.lo.
+  auto keep = [&](double v0, double v1, double bound, bool atMost) {
+    // v(s) = v0 + s (v1 - v0) <= bound (atMost) or >= bound.
+    const double slope = v1 - v0;
+    const double gap = bound - v0;
+    if (!atMost) {
+      if (slope == 0) {
+        if (v0 < bound) sHi = -1;
+        return;
+      }
+      const double s = gap / slope;
+      if (slope > 0) sLo = std::max(sLo, s);
+      else sHi = std::min(sHi, s);
+      return;
+    }
+    if (slope == 0) {
+      if (v0 > bound) sHi = -1;
+      return;
+    }
+    const double s = gap / slope;
+    if (slope > 0) sHi = std::min(sHi, s);
+    else sLo = std::max(sLo, s);
+  };
+  for (int i = 0; i < 3; ++i) {
+    keep(a.lo[i], b.lo[i], c.hi[i], true);
+    keep(a.hi[i], b.hi[i], c.lo[i], false);
+  }
+  // The rounding of s is covered by the ulps the boxes were widened by.
+  return sLo <= sHi;
+}
+
+ShadowShafts::ShadowShafts(const Scene &scene) {
+  if (scene.entities.size() > kMaxEntities) return;
+  for (const Entity &e : scene.entities) {
+    if (e.isMesh()) {
+      boxes_.push_back(widened(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject)));
+    } else if (shapeBounded(e)) {
+      boxes_.push_back(widened(shapeWorldBounds(e)));
+    } else {
+      // A Plane: y = 0 in object space.
+      const Vec3 n = normalize(e.worldFromObject.applyNormal({0, 1, 0}));
+      planes_.push_back({n, dot(n, e.worldFromObject.applyPoint({0, 0, 0}))});
+    }
+  }
+  enabled_ = true;
+}
+
+bool ShadowShafts::clear(const Bounds3 &origins, const Bounds3 &targets) const {
+  if (!enabled_) return false;
+  const Bounds3 a = widened(origins), b = widened(targets);
+  for (const Bounds3 &box : boxes_)
+    if (shaftMeetsBox(a, b, box)) return false;
+  // A plane can block only if the shaft's corners are not all strictly on
+  // one side of it (the hull of the corners is the shaft).
+  for (const HalfSpace &h : planes_) {
+    int above = 0, below = 0;
+    for (const Bounds3 *box : {&a, &b})
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 p((k & 1) ? box->hi.x : box->lo.x, (k & 2) ? box->hi.y : box->lo.y,
+                     (k & 4) ? box->hi.z : box->lo.z);
+        const double d = dot(h.normal, p) - h.offset;
+        const double tolerance = 64 * std::numeric_limits<double>::epsilon() *
+                                 (std::fabs(h.offset) + std::fabs(p.x) + std::fabs(p.y) +
+                                  std::fabs(p.z));
+        if (d > tolerance) ++above;
+        else if (d < -tolerance) ++below;
+        else return false; // on the plane, within rounding: it may block
+      }
+    if (above && below) return false;
+  }
+  return true;
+}
+
+} // namespace lray

@@ -1,0 +1,93 @@
+// Tests for src/shading/shadow_shaft: the shaft-against-box test, and
+// frames rendered with the shadow skips on and off, byte for byte the same
+// on both backends, with rays really skipped.
+#include "shading/shadow_shaft.h"
+
+#include "app/frame_pipeline.h"
+#include "bindings/scene_script.h"
+#include "shading/image_cache.h"
+
+#include <gtest/gtest.h>
+
+namespace lray {
+namespace {
+
+Bounds3 box(double x0, double y0, double z0, double x1, double y1, double z1) {
+  return {{x0, y0, z0}, {x1, y1, z1}};
+}
+
+TEST(ShadowShaft, MeetsABoxBetweenTheEndsAndNotOneBesideOrBeyond) {
+  const Bounds3 floorTile = box(0, 0, 0, 1, 0, 1), light = box(4, 10, 4, 5, 10, 5);
+  // Halfway along the shaft.
+  EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(2.2, 4.9, 2.2, 2.4, 5.1, 2.4)));
+  // Beside it at the same height, above the light, below the tile.
+  EXPECT_FALSE(shaftMeetsBox(floorTile, light, box(-3, 4, 2, -2, 6, 3)));
+  EXPECT_FALSE(shaftMeetsBox(floorTile, light, box(4, 11, 4, 5, 12, 5)));
+  EXPECT_FALSE(shaftMeetsBox(floorTile, light, box(0, -2, 0, 1, -1, 1)));
+  // Inside the shaft's bounding box but off the diagonal: the hull misses
+  // it where an axis-aligned box test would not.
+  EXPECT_FALSE(shaftMeetsBox(floorTile, light, box(4, 0.5, 0, 5, 1.5, 1)));
+  // Touching either end counts.
+  EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(0.5, -1, 0.5, 0.6, 0, 0.6)));
+  EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(4.5, 10, 4.5, 6, 11, 6)));
+  // A box enclosing everything.
+  EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(-100, -100, -100, 100, 100, 100)));
+}
+
+// The area-light scene of the gallery on a Floor() mesh, a second point
+// light and a mirror, so shafts of both kinds and secondary rays occur.
+const char *kScene = R"lua(
+scene_info = SceneInfo() { image_width = 128, image_height = 80, samples = 2 }
+function scene(clock)
+  local s = Scene() {
+    background_color = Color(0.05, 0.05, 0.1),
+    camera = Perspective(45, 128 / 80) { transform = LookAt(Vector(0, 3.5, -8), Vector(0, 0.8, 0), y) },
+  }
+  s:add_entity(Floor() { texture = Texture() {
+    pigment = CheckerPigment2D() { pigment1 = ColorPigment(grey(0.9)), pigment2 = ColorPigment(grey(0.4)) } } })
+  s:add_entity(Sphere(Translate(Vector(-1.5, 1, 0))) {
+    texture = Texture() { pigment = ColorPigment(Color(0.9, 0.2, 0.2)),
+                          finish = Finish() { specular = 0.5, exponent = 30, reflection = 0.3 } } })
+  s:add_entity(Cube(Translate(Vector(1.2, 0.75, 0.5)) * Rotate(y, 30) * Scale(1.5)))
+  s:add_entity(Torus(Translate(Vector(0.2, 0.3, -1.6))) { minor = 0.3 })
+  s:add_light(Light() { rows = 4, cols = 4, area = true,
+                        transform = Translate(Vector(-5, 8, -4)) * Scale(2, 1, 2) })
+  s:add_light(Light() { color = grey(0.3), transform = Translate(Vector(4, 6, -3)) })
+  return s
+end
+)lua";
+
+TEST(ShadowShaft, SkipsChangeNoByteOnEitherBackendInAnySamplingMode) {
+  SceneScript script = SceneScript::fromString(kScene, "shafts.lua");
+  const SceneInfo info = script.info();
+  FrameSettings fixedAll;
+  FrameSettings spread;
+  spread.lightSampling = LightSampling::Spread;
+  FrameSettings adaptive;
+  adaptive.adaptive = true;
+  adaptive.adaptiveSettings.noiseThreshold = 0.05;
+  adaptive.adaptiveSettings.minSamples = 4;
+  adaptive.adaptiveSettings.maxSamples = 32;
+  adaptive.lightSampling = LightSampling::Spread;
+  for (const char *backend : {"embree", "kdtree"}) {
+    for (FrameSettings sampling : {fixedAll, spread, adaptive}) {
+      ImageCache images(false);
+      FrameStats on, off;
+      sampling.shadowSkips = true;
+      const Film with = renderScriptFrame(script, info, 0, backend, images, on, nullptr, sampling);
+      sampling.shadowSkips = false;
+      const Film without =
+          renderScriptFrame(script, info, 0, backend, images, off, nullptr, sampling);
+      EXPECT_EQ(with.data(), without.data()) << backend;
+      EXPECT_EQ(with.errorData(), without.errorData()) << backend;
+      // Rays were really skipped, and every skipped ray is one the other
+      // render traced.
+      EXPECT_GT(on.rays.shadowSkipped, on.rays.shadow / 5) << backend;
+      EXPECT_EQ(off.rays.shadowSkipped, 0u);
+      EXPECT_EQ(on.rays.shadow + on.rays.shadowSkipped, off.rays.shadow) << backend;
+    }
+  }
+}
+
+} // namespace
+} // namespace lray

@@ -64,6 +64,10 @@ void *LuaAllocator::allocate(void *ud, void *ptr, size_t oldSize, size_t newSize
     }
     return nullptr;
   }
+  if (self.limit_ && newSize > oldSize && self.inUse_ + (newSize - oldSize) > self.limit_) {
+    self.refused_ = true;
+    return nullptr;
+  }
   if (ptr && oldSmall && newSmall && sizeClass(oldSize) == sizeClass(newSize)) {
     self.inUse_ += newSize - oldSize;
     return ptr;

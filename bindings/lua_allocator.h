@@ -22,6 +22,17 @@ public:
   /// Bytes currently handed out to Lua.
   size_t bytesInUse() const { return inUse_; }
 
+  /// Refuse any growth past `bytes` in use (0: no limit): Lua then raises a
+  /// memory error (--script-memory). Shrinking never fails.
+  void setLimit(size_t bytes) { limit_ = bytes; }
+  size_t limit() const { return limit_; }
+  /// Whether a request was refused since the last call (and clears it).
+  bool takeRefused() {
+    bool r = refused_;
+    refused_ = false;
+    return r;
+  }
+
 private:
   static constexpr size_t kGranule = 16;
   static constexpr size_t kMaxSmall = 512;
@@ -41,6 +52,8 @@ private:
   char *bumpEnd_ = nullptr;
   std::vector<void *> slabs_;
   size_t inUse_ = 0;
+  size_t limit_ = 0;
+  bool refused_ = false;
 };
 
 } // namespace lray::lua

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cassert>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace lray::lua {
@@ -142,7 +143,7 @@ ScriptLoc BindingContext::currentLocation(lua_State *L) {
     // Fast path: the same chunk as last time (checked by text, as below).
     if (ar.source == lastSource_ && sourceTexts[lastSourceId_] == ar.source)
       return {lastSourceId_, static_cast<uint32_t>(ar.currentline)};
-    if (preludeSource == ar.source) continue;
+    if (preludeSource == ar.source || std::strcmp(ar.source, "=sandbox") == 0) continue;
     auto it = sourceIds.find(ar.source);
     // The pointer is the interned chunk name; check the text in case the
     // address was reused by a later chunk.
@@ -179,6 +180,32 @@ std::string BindingContext::resolvePath(const std::string &file) const {
   fs::path p(file);
   if (p.is_relative()) p = fs::path(baseDir) / p;
   return fs::absolute(p).lexically_normal().string();
+}
+
+std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {
+  namespace fs = std::filesystem;
+  const std::string path = resolvePath(file);
+  std::error_code ec;
+  if (!readRoots.empty()) {
+    const fs::path real = fs::weakly_canonical(path, ec);
+    bool inside = false;
+    for (const fs::path &root : readRoots) {
+      auto [r, p] = std::mismatch(root.begin(), root.end(), real.begin(), real.end());
+      if (r == root.end()) {
+        inside = true;
+        break;
+      }
+    }
+    if (ec || !inside) {
+      std::string roots;
+      for (const fs::path &root : readRoots) roots += (roots.empty() ? "" : ", ") + root.string();
+      throw ScriptError(std::string(what) + ": '" + file + "' is outside the folders a scene may "
+                        "read (" + roots + "; allow another with --allow-read DIR)");
+    }
+  }
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+    throw ScriptError(std::string(what) + ": '" + file + "' is not a regular file (" + path + ")");
+  return path;
 }
 
 // ---- objects and messages --------------------------------------------------------

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -150,6 +151,15 @@ public:
   }
   /// Path of `file` resolved against the script folder.
   std::string resolvePath(const std::string &file) const;
+  /// resolvePath for a file the script reads: throws ScriptError, naming
+  /// `what` and the path, when it lies outside every folder of readRoots
+  /// (after symbolic links are followed), or exists and is not a regular
+  /// file.
+  std::string resolveReadPath(const std::string &file, const char *what) const;
+
+  /// The folders a sandboxed script may read below (canonical): the scene's
+  /// folder and those of --allow-read. Empty: anywhere (--unsafe).
+  std::vector<std::filesystem::path> readRoots;
 
   std::string baseDir;
   std::string preludeSource = "=prelude"; ///< chunk name of the prelude
@@ -162,6 +172,10 @@ public:
   std::deque<std::string> functionNames; ///< stable storage for error contexts
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   double timeoutSeconds = 0;
+  /// Where the script was when the hook last ran (every few thousand
+  /// instructions): the place a memory error, which Lua reports without
+  /// one, is blamed on.
+  ScriptLoc lastSeen{};
 
 private:
   const char *lastSource_ = nullptr; ///< one-entry cache for currentLocation

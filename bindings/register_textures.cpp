@@ -30,7 +30,7 @@ int newImagePigment(lua_State *L) {
   }
   if (lua_gettop(L) > 1) throwArgumentCount("ImagePigment2D", 1, lua_gettop(L));
   BindingContext &ctx = BindingContext::of(L);
-  std::string path = ctx.resolvePath(file);
+  std::string path = ctx.resolveReadPath(file, "ImagePigment2D");
   if (!std::filesystem::is_regular_file(path) || !std::ifstream(path, std::ios::binary))
     throw ScriptError("ImagePigment2D: cannot read image '" + file + "' (looked for " + path + ")");
   PigmentObj &p = pushNew<PigmentObj>(L, cls);

@@ -1,6 +1,10 @@
 // Pipeline: script -> scene description. See sandbox.h.
 #include "bindings/sandbox.h"
 
+#include "bindings/lua_binding.h"
+
+#include <string>
+
 namespace lray::lua {
 
 namespace {
@@ -8,30 +12,41 @@ namespace {
 // Runs with the unrestricted functions as arguments and replaces the
 // globals by restricted wrappers; the originals stay only in upvalues.
 const char kSandboxSetup[] = R"lua(
-local rawload, rawopen, rawlines, base, clock, time, date = ...
-local function resolve(path)
-  if type(path) ~= "string" or path:sub(1, 1) == "/" then return path end
-  return base .. "/" .. path
-end
+local rawload, rawopen, rawlines, readable, clock, time, date = ...
+-- readable(path, what): the path resolved against the scene's folder, or
+-- an error at the caller's line when it lies outside the folders a scene
+-- may read, or is not a regular file.
 io = {
   open = function(path, mode)
     if mode ~= nil and mode ~= "r" and mode ~= "rb" then
       error("io.open: only read mode is allowed in scene scripts (--unsafe lifts this)", 2)
     end
-    return rawopen(resolve(path), mode or "r")
+    return rawopen(readable(path, "io.open"), mode or "r")
   end,
   lines = function(path, ...)
     if path == nil then error("io.lines: a file name is required in scene scripts", 2) end
-    return rawlines(resolve(path), ...)
+    return rawlines(readable(path, "io.lines"), ...)
   end,
 }
 os = { clock = clock, time = time, date = date }
+-- Finalizers run with the debug hooks off, so the timeout could not stop
+-- one that loops, and one that resurrects an object the converter already
+-- took could hand it freed memory: scene scripts get none. Lua marks an
+-- object for finalization only when setmetatable sees __gc, so checking
+-- here is enough.
+local rawsetmetatable, rawget = setmetatable, rawget
+setmetatable = function(t, mt)
+  if type(mt) == "table" and rawget(mt, "__gc") ~= nil then
+    error("setmetatable: __gc finalizers are not allowed in scene scripts (--unsafe lifts this)", 2)
+  end
+  return rawsetmetatable(t, mt)
+end
 load = function(chunk, name, mode, ...)
   -- Binary chunks can break the interpreter's safety: text only.
   return rawload(chunk, name, "t", ...)
 end
 loadfile = function(path, mode, ...)
-  local f, err = rawopen(resolve(path), "r")
+  local f, err = rawopen(readable(path, "loadfile"), "r")
   if not f then return nil, err end
   local text = f:read("a")
   f:close()
@@ -44,9 +59,29 @@ dofile = function(path)
 end
 )lua";
 
+/// The sandbox's readable(path, what): BindingContext::resolveReadPath,
+/// its refusal raised as an error at the script line that asked.
+int readable(lua_State *L) {
+  const char *path = luaL_checkstring(L, 1);
+  const char *what = luaL_checkstring(L, 2);
+  bool failed = false;
+  {
+    std::string resolved;
+    try {
+      resolved = BindingContext::of(L).resolveReadPath(path, what);
+    } catch (const ScriptError &e) {
+      pushErrorMessage(L, e.what());
+      failed = true;
+    }
+    if (!failed) lua_pushlstring(L, resolved.data(), resolved.size());
+  } // strings destroyed before lua_error longjmps
+  if (failed) return lua_error(L);
+  return 1;
+}
+
 } // namespace
 
-void openLibraries(lua_State *L, bool unsafe, const std::string &baseDir) {
+void openLibraries(lua_State *L, bool unsafe) {
   if (unsafe) {
     luaL_openlibs(L);
     return;
@@ -65,7 +100,7 @@ void openLibraries(lua_State *L, bool unsafe, const std::string &baseDir) {
   lua_getfield(L, -1, "open");
   lua_getfield(L, -2, "lines");
   lua_remove(L, -3);
-  lua_pushlstring(L, baseDir.data(), baseDir.size());
+  lua_pushcfunction(L, &readable);
   luaL_requiref(L, LUA_OSLIBNAME, luaopen_os, 0);
   lua_getfield(L, -1, "clock");
   lua_getfield(L, -2, "time");

@@ -13,12 +13,18 @@
 
 namespace lray {
 
+/// The default cap on the memory a script's Lua state may use: 2 GiB.
+inline constexpr uint64_t kDefaultScriptMemory = uint64_t{2} << 30;
+
 struct ScriptOptions {
   bool unsafe = false;          ///< lift the sandbox (--unsafe)
   double timeoutSeconds = 60;   ///< --script-timeout; <= 0 means no limit. Applies to the
                                 ///< initial run and to each scene(clock) call separately.
   uint64_t maxPixels = kDefaultMaxPixels; ///< --max-pixels: cap on width*height*samples^2
   uint64_t maxLightSamples = kDefaultMaxLightSamples; ///< --max-light-samples, per light
+  uint64_t memoryLimitBytes = kDefaultScriptMemory;   ///< --script-memory; 0: no limit
+  /// --allow-read: folders a sandboxed script may read besides its own.
+  std::vector<std::string> allowRead;
 };
 
 /// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.

@@ -5,6 +5,7 @@
 #include "bindings/sandbox.h"
 
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -24,7 +25,8 @@ int traceback(lua_State *L) {
 }
 
 void timeoutHook(lua_State *L, lua_Debug *) {
-  const BindingContext &ctx = BindingContext::of(L);
+  BindingContext &ctx = BindingContext::of(L);
+  ctx.lastSeen = ctx.currentLocation(L);
   if (std::chrono::steady_clock::now() <= ctx.deadline) return;
   {
     std::string message = "the script ran longer than " + formatNumber(ctx.timeoutSeconds) +
@@ -44,6 +46,17 @@ int panic(lua_State *L) {
 // loop is stopped within milliseconds of its deadline.
 constexpr int kHookInstructions = 10000;
 
+std::string formatBytes(size_t bytes) {
+  char text[32];
+  if (bytes >= (size_t{1} << 30) && bytes % (size_t{1} << 30) == 0)
+    std::snprintf(text, sizeof text, "%zu GiB", bytes >> 30);
+  else if (bytes >= (size_t{1} << 20) && bytes % (size_t{1} << 20) == 0)
+    std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
+  else
+    std::snprintf(text, sizeof text, "%zu bytes", bytes);
+  return text;
+}
+
 } // namespace
 
 ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &options)
@@ -53,12 +66,28 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
   lua_atpanic(L_, &panic);
   ctx_->attach(L_);
   ctx_->timeoutSeconds = options.timeoutSeconds;
+  allocator_->setLimit(static_cast<size_t>(options.memoryLimitBytes));
   // Scene scripts make many short-lived values (Vector, Transform):
   // generational collection frees them young and keeps the peak low.
   lua_gc(L_, LUA_GCGEN, 0, 0);
-  openLibraries(L_, options.unsafe, ctx_->baseDir);
+  if (!options.unsafe) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> roots{ctx_->baseDir};
+    roots.insert(roots.end(), options.allowRead.begin(), options.allowRead.end());
+    for (const std::string &dir : roots) {
+      std::error_code ec;
+      if (!fs::is_directory(dir, ec)) {
+        lua_close(L_);
+        L_ = nullptr;
+        throw SceneError("--allow-read: '" + dir + "' is not a folder");
+      }
+      ctx_->readRoots.push_back(fs::canonical(dir, ec));
+    }
+  }
+  openLibraries(L_, options.unsafe);
   registerAllClasses(L_);
-  if (options.timeoutSeconds > 0) lua_sethook(L_, &timeoutHook, LUA_MASKCOUNT, kHookInstructions);
+  // Also without a timeout: the hook notes where the script is.
+  lua_sethook(L_, &timeoutHook, LUA_MASKCOUNT, kHookInstructions);
   try {
     run(kPreludeSource, ctx_->preludeSource);
   } catch (...) {
@@ -69,32 +98,59 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
 }
 
 ScriptState::~ScriptState() {
-  if (L_) lua_close(L_);
+  if (!L_) return;
+  // lua_close runs the remaining finalizers (__gc): they get the timeout
+  // too, or one that loops forever would hang the process after its image
+  // was written. The hook stops each with an error, which Lua turns into a
+  // warning, and closing goes on.
+  armDeadline("its finalizers");
+  lua_close(L_);
+  watchdog_.disarm();
+}
+
+void ScriptState::armDeadline(const char *what) {
+  if (!(ctx_->timeoutSeconds > 0)) return;
+  auto budget = std::chrono::duration<double>(std::min(ctx_->timeoutSeconds, 1e9));
+  ctx_->deadline = std::chrono::steady_clock::now() +
+                   std::chrono::duration_cast<std::chrono::steady_clock::duration>(budget);
+  watchdog_.arm(ctx_->deadline, chunk_ + ": the script ran longer than " +
+                                    formatNumber(ctx_->timeoutSeconds) + " seconds (in " + what +
+                                    ") and was stopped (raise the limit with --script-timeout)");
 }
 
 void ScriptState::protectedCall(int nargs, int nresults) {
   int handler = lua_gettop(L_) - nargs;
   lua_pushcfunction(L_, &traceback);
   lua_insert(L_, handler);
-  if (ctx_->timeoutSeconds > 0) {
-    auto budget = std::chrono::duration<double>(std::min(ctx_->timeoutSeconds, 1e9));
-    ctx_->deadline = std::chrono::steady_clock::now() +
-                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(budget);
-  }
+  armDeadline("a library call");
+  ctx_->lastSeen = {};
   int status = lua_pcall(L_, nargs, nresults, handler);
   ctx_->deadline = std::chrono::steady_clock::time_point::max();
+  watchdog_.disarm();
   lua_remove(L_, handler);
   if (status != LUA_OK) {
     std::string message = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "unknown Lua error";
     lua_pop(L_, 1);
+    if (status == LUA_ERRMEM && allocator_->takeRefused()) {
+      // Lua raises memory errors without a position or the message handler.
+      const SourceLocation where = ctx_->resolve(ctx_->lastSeen);
+      throw SceneError((where.line > 0 ? where.str() : chunk_) + ": " +
+                       "the script needed more than " + formatBytes(allocator_->limit()) +
+                       " of memory and was stopped (raise the limit with --script-memory)");
+    }
     throw SceneError(message);
   }
 }
 
 void ScriptState::run(const std::string &source, const std::string &chunkName) {
+  if (chunkName != ctx_->preludeSource) chunk_ = chunkName.empty() ? "" : chunkName.substr(1);
   if (luaL_loadbufferx(L_, source.data(), source.size(), chunkName.c_str(), "t") != LUA_OK) {
     std::string message = lua_tostring(L_, -1);
     lua_pop(L_, 1);
+    // Syntax errors start with the chunk's name; a refused binary chunk
+    // does not.
+    const std::string name = chunkName.empty() ? "" : chunkName.substr(1);
+    if (message.rfind(name, 0) != 0) message = name + ": " + message;
     throw SceneError(message);
   }
   protectedCall(0, 0);

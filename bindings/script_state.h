@@ -6,6 +6,7 @@
 #include "bindings/lua_allocator.h"
 #include "bindings/lua_binding.h"
 #include "bindings/scene_script.h"
+#include "bindings/script_watchdog.h"
 
 #include <memory>
 #include <string>
@@ -38,6 +39,10 @@ private:
   std::unique_ptr<LuaAllocator> allocator_ = std::make_unique<LuaAllocator>();
   lua_State *L_ = nullptr;
   std::unique_ptr<BindingContext> ctx_;
+  std::string chunk_ = "the script"; ///< the scene's name, for messages without a line
+  ScriptWatchdog watchdog_;
+  /// Arms the hook's deadline and the watchdog for a call starting now.
+  void armDeadline(const char *what);
 };
 
 } // namespace lray::lua

@@ -10,6 +10,7 @@ list(APPEND LRAY_CORE_SOURCES
   bindings/sandbox.cpp
   bindings/scene_converter.cpp
   bindings/script_state.cpp
+  bindings/script_watchdog.cpp
   bindings/scene_script.cpp
   ${CMAKE_BINARY_DIR}/generated/lray_prelude.cpp)
 

@@ -21,6 +21,10 @@ foreach(line IN LISTS lines)
     if(suite MATCHES "(^|/)Stress")
       set(label stress)
     endif()
+    # tests/hostile: scene files and options a hostile author could give.
+    if(suite MATCHES "(^|/)Hostile")
+      set(label hostile)
+    endif()
     string(APPEND content
       "add_test([=[${suite}]=] [==[${TEST_EXECUTABLE}]==] [==[--gtest_filter=${suite}.*]==])\n"
       "set_tests_properties([=[${suite}]=] PROPERTIES LABELS ${label} TIMEOUT 600)\n")

@@ -79,6 +79,8 @@ int run(const Options &opt) {
   ScriptOptions scriptOptions;
   scriptOptions.unsafe = opt.unsafe;
   scriptOptions.timeoutSeconds = opt.scriptTimeout;
+  scriptOptions.memoryLimitBytes = opt.scriptMemory;
+  scriptOptions.allowRead = opt.allowRead;
   scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
   scriptOptions.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
   auto t0 = std::chrono::steady_clock::now();

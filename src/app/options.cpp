@@ -120,6 +120,15 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   app.add_option("--script-timeout", o.scriptTimeout,
                  "Abort a script that runs longer than SECONDS (default 60)")
       ->check(positive);
+  app.add_option("--allow-read", o.allowRead,
+                 "Let the script read files below DIR too (repeatable; by default only below "
+                 "the scene's folder)")
+      ->type_name("DIR");
+  std::string scriptMemory;
+  app.add_option("--script-memory", scriptMemory,
+                 "Stop a script whose Lua memory grows past SIZE (bytes, or with K, M or G; "
+                 "default 2G)")
+      ->type_name("SIZE");
   app.add_option("--max-light-samples", o.maxLightSamples,
                  "Refuse a light with more shadow rays per shading point (rows*cols) than "
                  "this (default 65536)")
@@ -159,6 +168,26 @@ ParseResult parseOptions(int argc, const char *const *argv) {
       return *error;
   }
 
+  if (!scriptMemory.empty()) {
+    // A positive whole number of bytes, or of KiB, MiB or GiB.
+    size_t used = 0;
+    unsigned long long n = 0;
+    try {
+      if (!scriptMemory.empty() && std::isdigit(static_cast<unsigned char>(scriptMemory[0])))
+        n = std::stoull(scriptMemory, &used);
+    } catch (const std::exception &) {
+      used = 0;
+    }
+    const std::string unit = used ? scriptMemory.substr(used) : "";
+    const std::map<std::string, int> shifts{{"", 0},  {"K", 10}, {"M", 20}, {"G", 30},
+                                            {"k", 10}, {"m", 20}, {"g", 30}};
+    auto shift = shifts.find(unit);
+    if (!used || n == 0 || shift == shifts.end() || n > (~0ull >> (shift->second + 1)))
+      return ParseResult{std::nullopt, 2,
+                         "lray: error: --script-memory: expects a size such as 512M or 4G, got '" +
+                             scriptMemory + "' (run 'lray --help' for usage)"};
+    o.scriptMemory = static_cast<uint64_t>(n) << shift->second;
+  }
   if (!lightSampling.empty()) {
     const std::map<std::string, LightSampling> modes{{"all", LightSampling::All},
                                                      {"spread", LightSampling::Spread}};

@@ -33,6 +33,8 @@ struct Options {
   bool unsafe = false;
   std::string statsPath;
   double scriptTimeout = 60;
+  uint64_t scriptMemory = uint64_t{2} << 30; ///< bytes; --script-memory 512M, 4G, ...
+  std::vector<std::string> allowRead;        ///< --allow-read DIR (repeatable)
   double maxPixels = 1e9; ///< cap on width * height * samples^2
   double maxLightSamples = 65536; ///< cap on one light's shadow rays per shading point
 };

@@ -10,6 +10,7 @@
 #include <array>
 #include <cctype>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 
@@ -22,13 +23,25 @@ enum class Kind { Other, Png, Tga };
 /// PNG by its signature; TGA (which has none) by its extension and a
 /// header stb and OpenImageIO read alike: colour-mapped, true-colour or
 /// grey, 8, 24 or 32 bits per pixel.
-Kind kindOf(const std::string &path) {
+/// (A PNG's size is read from its IHDR chunk into `pngWidth` x `pngHeight`:
+/// stb refuses huge images with a message that does not say why.)
+Kind kindOf(const std::string &path, uint64_t &pngWidth, uint64_t &pngHeight) {
   std::unique_ptr<FILE, int (*)(FILE *)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) return Kind::Other;
-  unsigned char header[18] = {};
+  unsigned char header[24] = {};
   const size_t got = std::fread(header, 1, sizeof header, file.get());
   static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (got >= 8 && std::memcmp(header, kPng, 8) == 0) return Kind::Png;
+  if (got >= 8 && std::memcmp(header, kPng, 8) == 0) {
+    auto be32 = [&](int at) {
+      return (uint32_t{header[at]} << 24) | (uint32_t{header[at + 1]} << 16) |
+             (uint32_t{header[at + 2]} << 8) | uint32_t{header[at + 3]};
+    };
+    if (got == sizeof header && std::memcmp(header + 12, "IHDR", 4) == 0) {
+      pngWidth = be32(16);
+      pngHeight = be32(20);
+    }
+    return Kind::Png;
+  }
   std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -45,20 +58,31 @@ Kind kindOf(const std::string &path) {
 
 std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool linearWorkflow,
                                                   const SourceLocation &loc) {
-  const Kind kind = kindOf(path);
+  uint64_t pngWidth = 0, pngHeight = 0;
+  const Kind kind = kindOf(path, pngWidth, pngHeight);
   if (kind == Kind::Other) return std::nullopt;
-  int width = 0, height = 0, channels = 0;
-  if (!stbi_info(path.c_str(), &width, &height, &channels) || width <= 0 || height <= 0)
-    return std::nullopt;
-  if (kind == Kind::Png && stbi_is_16_bit(path.c_str())) return std::nullopt;
-  const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height);
-  if (texels > kMaxTextureTexels)
+  auto tooBig = [&](uint64_t width, uint64_t height) {
     throw SceneError(loc, "ImagePigment2D: image '" + path + "' is " + std::to_string(width) +
                               " x " + std::to_string(height) + " texels, more than the " +
                               "limit of " + std::to_string(kMaxTextureTexels));
+  };
+  if (pngWidth * pngHeight > kMaxTextureTexels) tooBig(pngWidth, pngHeight);
+  // A PNG that stb cannot read is reported here: OpenImageIO's libpng
+  // would print its own "libpng error" line before LRay's message.
+  auto broken = [&]() -> std::optional<TextureImage> {
+    if (kind != Kind::Png) return std::nullopt; // OpenImageIO names what is wrong
+    throw SceneError(loc, "ImagePigment2D: cannot decode image '" + path + "' (" +
+                              stbi_failure_reason() + ")");
+  };
+  int width = 0, height = 0, channels = 0;
+  if (!stbi_info(path.c_str(), &width, &height, &channels) || width <= 0 || height <= 0)
+    return broken();
+  if (kind == Kind::Png && stbi_is_16_bit(path.c_str())) return std::nullopt;
+  const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (texels > kMaxTextureTexels) tooBig(width, height);
   std::unique_ptr<stbi_uc, void (*)(void *)> data(
       stbi_load(path.c_str(), &width, &height, &channels, 0), &stbi_image_free);
-  if (!data) return std::nullopt; // OpenImageIO names what is wrong with it
+  if (!data) return broken();
   TextureImage image;
   image.width = width;
   image.height = height;

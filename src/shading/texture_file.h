@@ -1,9 +1,9 @@
 // Pipeline: shading. Decodes the lossless 8-bit formats most scenes use for
 // textures (PNG, and 8/24/32-bit TGA) with stb_image, without loading
 // OpenImageIO: loading it costs about 0.3 s per run, more than rendering a
-// small frame. Anything else (other formats, 16-bit PNG, a file stb cannot
+// small frame. Anything else (other formats, 16-bit PNG, a TGA stb cannot
 // decode) is left to OpenImageIO, which gives the same texels for what
-// both read and the error messages for broken files.
+// both read; a broken PNG is reported here.
 #pragma once
 
 #include "scene/scene_error.h"
@@ -16,7 +16,8 @@ namespace lray {
 
 /// The texture at `path` if it is an 8-bit PNG or TGA that stb decodes,
 /// else nothing. Throws SceneError (at `loc`) when its header claims more
-/// than kMaxTextureTexels, before allocating anything.
+/// than kMaxTextureTexels, before allocating anything, and for a PNG that
+/// cannot be decoded.
 std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool linearWorkflow,
                                                   const SourceLocation &loc);
 

@@ -83,7 +83,7 @@ Registered registeredNames() {
   }
   // What the bindings and the prelude add to the sandbox's own globals.
   lua_State *bare = luaL_newstate();
-  openLibraries(bare, options.unsafe, ".");
+  openLibraries(bare, options.unsafe);
   std::set<std::string> standard = globalNames(bare);
   lua_close(bare);
   for (const std::string &name : globalNames(L))

@@ -21,6 +21,9 @@ protected:
   void reset(const std::string &baseDir = LRAY_SOURCE_DIR "/tests/bindings",
              ScriptOptions options = {}) {
     state_.reset();
+    // The tests read the gallery's images and models too.
+    if (!options.unsafe && options.allowRead.empty())
+      options.allowRead.push_back(LRAY_SOURCE_DIR "/scenes");
     state_ = std::make_unique<ScriptState>(baseDir, options);
   }
 

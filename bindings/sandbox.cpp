@@ -34,7 +34,13 @@ os = { clock = clock, time = time, date = date }
 -- took could hand it freed memory: scene scripts get none. Lua marks an
 -- object for finalization only when setmetatable sees __gc, so checking
 -- here is enough.
-local rawsetmetatable, rawget = setmetatable, rawget
+local rawsetmetatable, rawgetmetatable, rawget = setmetatable, getmetatable, rawget
+-- Userdata (files, LRay objects) already have a C finalizer: a script that
+-- could reach their metatable could swap a Lua function in.
+getmetatable = function(v)
+  if type(v) == "userdata" then return nil end
+  return rawgetmetatable(v)
+end
 setmetatable = function(t, mt)
   if type(mt) == "table" and rawget(mt, "__gc") ~= nil then
     error("setmetatable: __gc finalizers are not allowed in scene scripts (--unsafe lifts this)", 2)

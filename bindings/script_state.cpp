@@ -76,12 +76,15 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
     roots.insert(roots.end(), options.allowRead.begin(), options.allowRead.end());
     for (const std::string &dir : roots) {
       std::error_code ec;
-      if (!fs::is_directory(dir, ec)) {
+      fs::path root;
+      if (fs::is_directory(dir, ec)) root = fs::canonical(dir, ec);
+      // An empty root would be a prefix of every path: refuse, never widen.
+      if (ec || root.empty()) {
         lua_close(L_);
         L_ = nullptr;
         throw SceneError("--allow-read: '" + dir + "' is not a folder");
       }
-      ctx_->readRoots.push_back(fs::canonical(dir, ec));
+      ctx_->readRoots.push_back(root);
     }
   }
   openLibraries(L_, options.unsafe);
@@ -99,10 +102,9 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
 
 ScriptState::~ScriptState() {
   if (!L_) return;
-  // lua_close runs the remaining finalizers (__gc): they get the timeout
-  // too, or one that loops forever would hang the process after its image
-  // was written. The hook stops each with an error, which Lua turns into a
-  // warning, and closing goes on.
+  // lua_close runs the remaining finalizers. The sandbox lets scripts
+  // install none, but with --unsafe one could loop forever; Lua runs them
+  // with the hooks off, so only the watchdog can end that.
   armDeadline("its finalizers");
   lua_close(L_);
   watchdog_.disarm();
@@ -124,6 +126,7 @@ void ScriptState::protectedCall(int nargs, int nresults) {
   lua_insert(L_, handler);
   armDeadline("a library call");
   ctx_->lastSeen = {};
+  allocator_->takeRefused(); // a refusal from an earlier call is not this one's
   int status = lua_pcall(L_, nargs, nresults, handler);
   ctx_->deadline = std::chrono::steady_clock::time_point::max();
   watchdog_.disarm();

@@ -45,8 +45,8 @@ struct FrameSettings {
   /// Skip shadow rays nothing can block (shading/shadow_shaft.h): the same
   /// image either way; off only to measure or to check that.
   bool shadowSkips = true;
-  /// Set by another thread to stop the render at the next tile boundary
-  /// (the first pass of an adaptive render always completes).
+  /// Set by another thread to stop an adaptive render at the next tile
+  /// boundary (its first pass always completes; fixed sampling ignores it).
   const std::atomic<bool> *cancel = nullptr;
 };
 

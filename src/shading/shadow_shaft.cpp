@@ -1,6 +1,8 @@
 // Pipeline: shading. See shadow_shaft.h.
 #include "shading/shadow_shaft.h"
 
+#include "geometry/error_bound.h"
+#include "geometry/float_frame.h"
 #include "geometry/shape.h"
 
 #include <algorithm>
@@ -56,17 +58,34 @@ bool shaftMeetsBox(const Bounds3 &a, const Bounds3 &b, const Bounds3 &c) {
   return sLo <= sHi;
 }
 
-ShadowShafts::ShadowShafts(const Scene &scene) {
+namespace {
+
+/// Twice the float rounding of a coordinate of this magnitude, and more.
+constexpr double kFloatPad = 0x1p-22;
+
+double maxAbs(const Bounds3 &b, const Vec3 &origin) {
+  return std::max(maxAbsComponent(b.lo - origin), maxAbsComponent(b.hi - origin));
+}
+
+} // namespace
+
+ShadowShafts::ShadowShafts(const Scene &scene) : frameOrigin_(floatFrameOrigin(scene)) {
   if (scene.entities.size() > kMaxEntities) return;
   for (const Entity &e : scene.entities) {
     if (e.isMesh()) {
-      boxes_.push_back(widened(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject)));
+      if (!e.mesh) continue; // nothing to hit
+      const Bounds3 box = widened(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
+      if (box.empty()) continue;
+      meshes_.push_back(
+          {box, e.worldFromObject.isIdentity() ? 0.0 : kFloatPad * maxAbs(box, frameOrigin_)});
     } else if (shapeBounded(e)) {
       boxes_.push_back(widened(shapeWorldBounds(e)));
     } else {
       // A Plane: y = 0 in object space.
       const Vec3 n = normalize(e.worldFromObject.applyNormal({0, 1, 0}));
-      planes_.push_back({n, dot(n, e.worldFromObject.applyPoint({0, 0, 0}))});
+      planes_.push_back({n, dot(n, e.worldFromObject.applyPoint({0, 0, 0})),
+                         e.worldFromObject.translationNorm() +
+                             e.worldFromObject.inverseTranslationNorm()});
     }
   }
   enabled_ = true;
@@ -77,6 +96,12 @@ bool ShadowShafts::clear(const Bounds3 &origins, const Bounds3 &targets) const {
   const Bounds3 a = widened(origins), b = widened(targets);
   for (const Bounds3 &box : boxes_)
     if (shaftMeetsBox(a, b, box)) return false;
+  const double rayPad = kFloatPad * std::max(maxAbs(a, frameOrigin_), maxAbs(b, frameOrigin_));
+  for (const MeshBox &m : meshes_) {
+    const double pad = rayPad + m.ownPad;
+    if (shaftMeetsBox(a, b, {m.box.lo - Vec3(pad, pad, pad), m.box.hi + Vec3(pad, pad, pad)}))
+      return false;
+  }
   // A plane can block only if the shaft's corners are not all strictly on
   // one side of it (the hull of the corners is the shaft).
   for (const HalfSpace &h : planes_) {
@@ -87,8 +112,8 @@ bool ShadowShafts::clear(const Bounds3 &origins, const Bounds3 &targets) const {
                      (k & 4) ? box->hi.z : box->lo.z);
         const double d = dot(h.normal, p) - h.offset;
         const double tolerance = 64 * std::numeric_limits<double>::epsilon() *
-                                 (std::fabs(h.offset) + std::fabs(p.x) + std::fabs(p.y) +
-                                  std::fabs(p.z));
+                                 (std::fabs(h.offset) + h.magnitude + std::fabs(p.x) +
+                                  std::fabs(p.y) + std::fabs(p.z));
         if (d > tolerance) ++above;
         else if (d < -tolerance) ++below;
         else return false; // on the plane, within rounding: it may block

@@ -33,9 +33,21 @@ private:
   struct HalfSpace {
     Vec3 normal; ///< world normal of a Plane; the solid side is irrelevant
     double offset;
+    double magnitude; ///< of its translation: the scale of its own rounding
+  };
+  /// A mesh: Embree tests its triangles in single precision, relative to
+  /// the scene's float frame, so a float ray may stray from the double
+  /// segment by about 2^-23 of its coordinates' magnitude there, and an
+  /// instanced mesh's float transform moves its vertices by as much of
+  /// theirs. The box is widened by both before the test.
+  struct MeshBox {
+    Bounds3 box;
+    double ownPad; ///< 0 for an identity-placed mesh
   };
   bool enabled_ = false;
-  std::vector<Bounds3> boxes_;    ///< bounded entities, widened by a few ulps
+  Vec3 frameOrigin_;
+  std::vector<Bounds3> boxes_;    ///< analytic bounded entities, widened by a few ulps
+  std::vector<MeshBox> meshes_;
   std::vector<HalfSpace> planes_; ///< unbounded entities (Plane)
 };
 

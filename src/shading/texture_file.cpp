@@ -48,7 +48,11 @@ Kind kindOf(const std::string &path, uint64_t &pngWidth, uint64_t &pngHeight) {
   if (ext != ".tga" || got < 18) return Kind::Other;
   const int imageType = header[2] & ~8; // bit 3: run-length encoded
   const int depth = header[16];
-  const bool colourMapped = imageType == 1 && header[1] == 1 && header[7] == 24;
+  // Right-to-left rows (descriptor bit 4) and colour maps whose first
+  // entry is not 0 stb reads differently: those go to OpenImageIO.
+  if (header[17] & 0x10) return Kind::Other;
+  const bool colourMapped =
+      imageType == 1 && header[1] == 1 && header[7] == 24 && header[3] == 0 && header[4] == 0;
   const bool trueColour = imageType == 2 && (depth == 24 || depth == 32);
   const bool grey = imageType == 3 && depth == 8;
   return colourMapped || trueColour || grey ? Kind::Tga : Kind::Other;

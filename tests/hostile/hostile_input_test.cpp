@@ -188,6 +188,19 @@ TEST_F(Hostile, AFinalizerAddedAfterSetmetatableNeverRuns) {
   EXPECT_TRUE(fs::is_regular_file(fs::path(out()) / "late.png"));
 }
 
+TEST_F(Hostile, NoFinalizerCanBeSwappedIntoAFileOrAnLrayObject) {
+  // Userdata carry C finalizers; their metatables are out of reach, so no
+  // Lua function can be made to run with the hooks off.
+  const std::string s = write(
+      "swap.lua", "local f = io.open('swap.lua')\nlocal mt = getmetatable(f)\n"
+                  "mt.__gc = function() while true do end end" + kScene);
+  expectRefused({s, out(), "--script-timeout", "1"}, 1, "swap.lua:3: attempt to index a nil value", 10);
+  const std::string t = write(
+      "swap2.lua", "local mt = getmetatable(Sphere())\n"
+                   "mt.__gc = function() while true do end end" + kScene);
+  expectRefused({t, out(), "--script-timeout", "1"}, 1, "swap2.lua:2: attempt to index a nil value", 10);
+}
+
 TEST_F(Hostile, DeeplyNestedPigmentsAreAnErrorNotACrash) {
   const std::string s = write(
       "nest.lua",

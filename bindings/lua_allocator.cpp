@@ -64,7 +64,9 @@ void *LuaAllocator::allocate(void *ud, void *ptr, size_t oldSize, size_t newSize
     }
     return nullptr;
   }
-  if (self.limit_ && newSize > oldSize && self.inUse_ + (newSize - oldSize) > self.limit_) {
+  if (self.limit_ && newSize > oldSize &&
+      self.inUse_ + self.external_->bytes.load(std::memory_order_relaxed) + (newSize - oldSize) >
+          self.limit_) {
     self.refused_ = true;
     return nullptr;
   }

@@ -4,7 +4,10 @@
 // several times faster than malloc for this pattern and does not fragment.
 #pragma once
 
+#include "bindings/external_memory.h"
+
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace lray::lua {
@@ -26,6 +29,11 @@ public:
   /// memory error (--script-memory). Shrinking never fails.
   void setLimit(size_t bytes) { limit_ = bytes; }
   size_t limit() const { return limit_; }
+  /// The memory script objects hold outside the Lua heap: it counts
+  /// against the limit too.
+  const std::shared_ptr<ExternalMemory> &external() const { return external_; }
+  /// Whether the Lua heap and the external memory together are past the limit.
+  bool overLimit() const { return limit_ && inUse_ + external_->bytes.load() > limit_; }
   /// Whether a request was refused since the last call (and clears it).
   bool takeRefused() {
     bool r = refused_;
@@ -54,6 +62,7 @@ private:
   size_t inUse_ = 0;
   size_t limit_ = 0;
   bool refused_ = false;
+  std::shared_ptr<ExternalMemory> external_ = std::make_shared<ExternalMemory>();
 };
 
 } // namespace lray::lua

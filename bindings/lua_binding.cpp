@@ -2,6 +2,8 @@
 // binding layer: metatables, member lookup, bulk set, error messages.
 #include "bindings/lua_binding.h"
 
+#include "bindings/lua_allocator.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cassert>
@@ -180,6 +182,16 @@ std::string BindingContext::resolvePath(const std::string &file) const {
   fs::path p(file);
   if (p.is_relative()) p = fs::path(baseDir) / p;
   return fs::absolute(p).lexically_normal().string();
+}
+
+void BindingContext::checkMemory(const char *what) const {
+  if (!allocator || !allocator->overLimit()) return;
+  const size_t limit = allocator->limit();
+  const std::string size = limit % (size_t{1} << 20) == 0
+                               ? std::to_string(limit >> 20) + " MiB"
+                               : std::to_string(limit) + " bytes";
+  throw ScriptError(std::string(what) + ": the script needed more than " + size +
+                    " of memory and was stopped (raise the limit with --script-memory)");
 }
 
 std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {

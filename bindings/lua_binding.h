@@ -161,6 +161,13 @@ public:
   /// folder and those of --allow-read. Empty: anywhere (--unsafe).
   std::vector<std::filesystem::path> readRoots;
 
+  /// The state's allocator (set by ScriptState): its limit and the pool of
+  /// memory held outside the Lua heap (external_memory.h).
+  const class LuaAllocator *allocator = nullptr;
+  /// Throws ScriptError naming `what` when the script's memory, Lua heap and
+  /// external together, is past --script-memory.
+  void checkMemory(const char *what) const;
+
   std::string baseDir;
   std::string preludeSource = "=prelude"; ///< chunk name of the prelude
   std::vector<std::unique_ptr<ClassInfo>> classes;

@@ -1,5 +1,6 @@
 // Pipeline: script -> scene description. The shapes (SPEC 5), Mesh with its
 // Lua-table arrays, and the native mesh_from_obj.
+#include "bindings/lua_allocator.h"
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 #include "bindings/validators.h"
@@ -180,6 +181,19 @@ int meshCopy(lua_State *L) {
 }
 
 // mesh_from_obj(path): parsed natively; the path is relative to the script.
+/// Charges the mesh's arrays to the script's memory and checks the limit.
+void chargeMesh(lua_State *L, MeshObj &m, const char *what) {
+  const MeshSource &s = m.geometry->source;
+  const size_t bytes = s.positions.capacity() * sizeof(Vec3f) + s.normals.capacity() * sizeof(Vec3f) +
+                       s.uvs.capacity() * sizeof(Vec2f) + s.corners.capacity() * sizeof(MeshCorner) +
+                       s.faceSizes.capacity() * sizeof(uint32_t);
+  BindingContext &ctx = BindingContext::of(L);
+  // The place a memory error soon after is blamed on (Lua gives it none).
+  ctx.lastSeen = ctx.currentLocation(L);
+  if (ctx.allocator) m.geometry->charge.set(ctx.allocator->external(), bytes);
+  ctx.checkMemory(what);
+}
+
 int meshFromObj(lua_State *L) {
   std::string file;
   try {
@@ -197,16 +211,19 @@ int meshFromObj(lua_State *L) {
   MeshObj &mesh = pushNew<MeshObj>(L, ctx.primary(typeTag<MeshObj>()));
   mesh.geometry->source = std::move(source);
   mesh.loc = ctx.currentLocation(L);
+  chargeMesh(L, mesh, "mesh_from_obj");
   return 1;
 }
 
 void getVertices(lua_State *L, MeshObj &m, int) { pushVec3List(L, m.geometry->source.positions); }
 void setVertices(lua_State *L, MeshObj &m, int, int v) {
   m.editSource().positions = readVec3List(L, v, "vertices");
+  chargeMesh(L, m, "Mesh: vertices");
 }
 void getNormals(lua_State *L, MeshObj &m, int) { pushVec3List(L, m.geometry->source.normals); }
 void setNormals(lua_State *L, MeshObj &m, int, int v) {
   m.editSource().normals = readVec3List(L, v, "normals");
+  chargeMesh(L, m, "Mesh: normals");
 }
 
 void getUvs(lua_State *L, MeshObj &m, int) {
@@ -231,6 +248,7 @@ void setUvs(lua_State *L, MeshObj &m, int, int v) {
     uvs.push_back({float(uv[0]), float(uv[1])});
   }
   m.editSource().uvs = std::move(uvs);
+  chargeMesh(L, m, "Mesh: uvs");
 }
 
 void getIndices(lua_State *L, MeshObj &m, int) { pushIndices(L, m.geometry->source); }
@@ -240,6 +258,7 @@ void setIndices(lua_State *L, MeshObj &m, int, int v) {
   MeshSource &src = m.editSource();
   src.corners = std::move(parsed.corners);
   src.faceSizes = std::move(parsed.faceSizes);
+  chargeMesh(L, m, "Mesh: indices");
 }
 
 template <class S> void shapeDefaults(EntityObj &e) { e.shape = S{}; }

@@ -6,6 +6,8 @@
 // turns them into the plain model of src/scene/scene.h.
 #pragma once
 
+#include "bindings/external_memory.h"
+
 #include "bindings/lua_binding.h"
 #include "scene/mesh_builder.h"
 #include "scene/scene.h"
@@ -75,6 +77,7 @@ struct EntityObj {
 struct MeshGeometry {
   MeshSource source;
   mutable MeshDataPtr built; ///< null until first needed; reset when the source changes
+  lua::MemoryCharge charge;  ///< the source's arrays, against --script-memory
 };
 
 struct MeshObj {

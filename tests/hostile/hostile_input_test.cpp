@@ -134,6 +134,31 @@ TEST_F(Hostile, ScriptMemoryIsCappedAndTheErrorNamesTheLine) {
                 20, 400);
 }
 
+TEST_F(Hostile, MeshArraysCountAgainstTheScriptMemory) {
+  // One 100,000-vertex table copied into ever more meshes: the Lua heap
+  // stays small, the meshes' C++ arrays do not.
+  const std::string s = write(
+      "meshes.lua", "local big = {}\nfor i = 1, 100000 do big[i] = {i, 0, 0} end\n"
+                    "local keep = {}\nfor i = 1, 100000 do\n  local m = Mesh()\n"
+                    "  m.vertices = big\n  keep[i] = m\nend" + kScene);
+  // Whichever allocation crosses the limit first, a mesh's arrays or a
+  // Lua object, the error is blamed on the line that made the meshes.
+  const Outcome o = expectRefused({s, out(), "--script-memory", "256M"}, 1, "meshes.lua:6: ", 60, 600);
+  EXPECT_NE(o.output.find("the script needed more than 256 MiB of memory"), std::string::npos)
+      << o.output;
+}
+
+TEST_F(Hostile, AMeshRebuiltEveryFrameDoesNotAccumulateCharges) {
+  // Meshes dropped by the script are uncharged when collected.
+  const std::string s = write(
+      "anim.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4, frames = 10 }\n"
+                  "local big = {}\nfor i = 1, 100000 do big[i] = {i, 0, 0} end\n"
+                  "function scene(clock)\n  for k = 1, 20 do local m = Mesh(); m.vertices = big end\n"
+                  "  collectgarbage()\n  return Scene()\nend\n");
+  const Outcome o = runLray({s, out(), "-q", "--script-memory", "128M"}, 60);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
 TEST_F(Hostile, OneHugeAllocationIsRefusedNamingTheScene) {
   const std::string s = write("big.lua", "local s = string.rep('x', 1.5e9)" + kScene);
   expectRefused({s, out(), "--script-memory", "256M"}, 1,

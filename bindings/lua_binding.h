@@ -164,6 +164,8 @@ public:
   /// The state's allocator (set by ScriptState): its limit and the pool of
   /// memory held outside the Lua heap (external_memory.h).
   const class LuaAllocator *allocator = nullptr;
+  /// --max-file-size: the largest OBJ file mesh_from_obj reads.
+  uint64_t maxFileBytes = uint64_t{1} << 30;
   /// Throws ScriptError naming `what` when the script's memory, Lua heap and
   /// external together, is past --script-memory.
   void checkMemory(const char *what) const;

@@ -204,7 +204,7 @@ int meshFromObj(lua_State *L) {
   BindingContext &ctx = BindingContext::of(L);
   MeshSource source;
   try {
-    source = loadObj(ctx.resolveReadPath(file, "mesh_from_obj"), file);
+    source = loadObj(ctx.resolveReadPath(file, "mesh_from_obj"), file, ctx.maxFileBytes);
   } catch (const SceneError &e) {
     throw ScriptError(std::string("mesh_from_obj: ") + e.what());
   }

@@ -22,7 +22,12 @@ struct SceneScript::Impl {
 
 namespace {
 
-std::string readScript(const std::string &path) {
+std::string readScript(const std::string &path, uint64_t maxBytes) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > maxBytes)
+    throw SceneError(path + ": " + std::to_string(size) + " bytes, more than the limit of " +
+                     std::to_string(maxBytes) + " for a scene file (raise it with --max-file-size)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;
@@ -38,7 +43,8 @@ std::string folderOf(const std::string &path) {
 } // namespace
 
 SceneScript::SceneScript(const std::string &path, ScriptOptions options)
-    : SceneScript(readScript(path), "@" + path, folderOf(path), options, true) {}
+    : SceneScript(readScript(path, options.maxFileBytes), "@" + path, folderOf(path), options,
+                  true) {}
 
 SceneScript SceneScript::fromString(const std::string &source, const std::string &chunkName,
                                     const std::string &baseDir, ScriptOptions options) {

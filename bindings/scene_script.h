@@ -25,6 +25,9 @@ struct ScriptOptions {
   uint64_t memoryLimitBytes = kDefaultScriptMemory;   ///< --script-memory; 0: no limit
   /// --allow-read: folders a sandboxed script may read besides its own.
   std::vector<std::string> allowRead;
+  /// --max-file-size: the largest scene or OBJ file read (text formats
+  /// are read whole before they are parsed).
+  uint64_t maxFileBytes = uint64_t{1} << 30;
 };
 
 /// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.

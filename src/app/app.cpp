@@ -81,6 +81,7 @@ int run(const Options &opt) {
   scriptOptions.timeoutSeconds = opt.scriptTimeout;
   scriptOptions.memoryLimitBytes = opt.scriptMemory;
   scriptOptions.allowRead = opt.allowRead;
+  scriptOptions.maxFileBytes = opt.maxFileBytes;
   scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
   scriptOptions.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
   auto t0 = std::chrono::steady_clock::now();

@@ -124,6 +124,11 @@ ParseResult parseOptions(int argc, const char *const *argv) {
                  "Let the script read files below DIR too (repeatable; by default only below "
                  "the scene's folder)")
       ->type_name("DIR");
+  std::string maxFileSize;
+  app.add_option("--max-file-size", maxFileSize,
+                 "Refuse a scene or OBJ file larger than SIZE (bytes, or with K, M or G; "
+                 "default 1G)")
+      ->type_name("SIZE");
   std::string scriptMemory;
   app.add_option("--script-memory", scriptMemory,
                  "Stop a script whose Lua memory grows past SIZE (bytes, or with K, M or G; "
@@ -168,26 +173,33 @@ ParseResult parseOptions(int argc, const char *const *argv) {
       return *error;
   }
 
-  if (!scriptMemory.empty()) {
-    // A positive whole number of bytes, or of KiB, MiB or GiB.
+  // A positive whole number of bytes, or of KiB, MiB or GiB.
+  auto parseSize = [](const std::string &text, const char *option,
+                      uint64_t &out) -> std::optional<ParseResult> {
     size_t used = 0;
     unsigned long long n = 0;
     try {
-      if (!scriptMemory.empty() && std::isdigit(static_cast<unsigned char>(scriptMemory[0])))
-        n = std::stoull(scriptMemory, &used);
+      if (!text.empty() && std::isdigit(static_cast<unsigned char>(text[0])))
+        n = std::stoull(text, &used);
     } catch (const std::exception &) {
       used = 0;
     }
-    const std::string unit = used ? scriptMemory.substr(used) : "";
+    const std::string unit = used ? text.substr(used) : "";
     const std::map<std::string, int> shifts{{"", 0},  {"K", 10}, {"M", 20}, {"G", 30},
                                             {"k", 10}, {"m", 20}, {"g", 30}};
     auto shift = shifts.find(unit);
     if (!used || n == 0 || shift == shifts.end() || n > (~0ull >> (shift->second + 1)))
       return ParseResult{std::nullopt, 2,
-                         "lray: error: --script-memory: expects a size such as 512M or 4G, got '" +
-                             scriptMemory + "' (run 'lray --help' for usage)"};
-    o.scriptMemory = static_cast<uint64_t>(n) << shift->second;
-  }
+                         std::string("lray: error: ") + option +
+                             ": expects a size such as 512M or 4G, got '" + text +
+                             "' (run 'lray --help' for usage)"};
+    out = static_cast<uint64_t>(n) << shift->second;
+    return std::nullopt;
+  };
+  if (!scriptMemory.empty())
+    if (auto error = parseSize(scriptMemory, "--script-memory", o.scriptMemory)) return *error;
+  if (!maxFileSize.empty())
+    if (auto error = parseSize(maxFileSize, "--max-file-size", o.maxFileBytes)) return *error;
   if (!lightSampling.empty()) {
     const std::map<std::string, LightSampling> modes{{"all", LightSampling::All},
                                                      {"spread", LightSampling::Spread}};

@@ -35,6 +35,7 @@ struct Options {
   double scriptTimeout = 60;
   uint64_t scriptMemory = uint64_t{2} << 30; ///< bytes; --script-memory 512M, 4G, ...
   std::vector<std::string> allowRead;        ///< --allow-read DIR (repeatable)
+  uint64_t maxFileBytes = uint64_t{1} << 30; ///< --max-file-size: scene and OBJ files
   double maxPixels = 1e9; ///< cap on width * height * samples^2
   double maxLightSamples = 65536; ///< cap on one light's shadow rays per shading point
 };

@@ -158,12 +158,16 @@ MeshSource parseObj(const std::string &text, const std::string &displayName) {
   return parser.take();
 }
 
-MeshSource loadObj(const std::string &path, const std::string &displayName) {
+MeshSource loadObj(const std::string &path, const std::string &displayName, uint64_t maxBytes) {
   // A directory reads as an empty file and a device (/dev/zero) never ends:
   // only regular files are OBJ files.
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw SceneError(displayName + ": not a regular file (" + path + ")");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > maxBytes)
+    throw SceneError(displayName + ": " + std::to_string(size) + " bytes, more than the limit of " +
+                     std::to_string(maxBytes) + " (raise it with --max-file-size)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(displayName + ": cannot open OBJ file");
   std::ostringstream buffer;

@@ -4,6 +4,7 @@
 
 #include "scene/mesh_builder.h"
 
+#include <cstdint>
 #include <string>
 
 namespace lray {
@@ -13,8 +14,10 @@ namespace lray {
 /// by buildMeshData). Accepts CRLF line endings, comments and trailing
 /// spaces; ignores grouping/material statements (o g s usemtl mtllib) and
 /// non-surface elements (l p vp). Anything else malformed throws SceneError
-/// "displayName:line: message"; nothing is dropped silently.
-MeshSource loadObj(const std::string &path, const std::string &displayName);
+/// "displayName:line: message"; nothing is dropped silently. A file larger
+/// than `maxBytes` is refused before it is read (--max-file-size).
+MeshSource loadObj(const std::string &path, const std::string &displayName,
+                   uint64_t maxBytes = uint64_t{1} << 30);
 
 /// Same, from the text of an OBJ file (for tests).
 MeshSource parseObj(const std::string &text, const std::string &displayName);

@@ -267,6 +267,20 @@ TEST_F(Hostile, AFolderGivenAsAnObjIsRefusedNamingThePath) {
   expectRefused({s, out()}, 1, "folder.obj", 10);
 }
 
+TEST_F(Hostile, OversizedSceneAndObjFilesAreRefusedBeforeReading) {
+  std::ofstream(dir_ / "big.obj") << std::string(5000, '#') << "\n";
+  const std::string s = write("bo.lua", "\nlocal m = mesh_from_obj('big.obj')" + kScene);
+  expectRefused({s, out(), "--max-file-size", "4K"}, 1,
+                "bo.lua:2: mesh_from_obj: big.obj: 5001 bytes, more than the limit of 4096 (raise it "
+                "with --max-file-size)",
+                10);
+  const std::string t = write("long.lua", "-- " + std::string(5000, 'x') + kScene);
+  expectRefused({t, out(), "--max-file-size", "4K"}, 1,
+                "long.lua: " + std::to_string(fs::file_size(t)) +
+                    " bytes, more than the limit of 4096 for a scene file",
+                10);
+}
+
 TEST_F(Hostile, AMissingObjNamesThePathAndLine) {
   const std::string s = write("miss.lua", "\nlocal m = mesh_from_obj('nothere.obj')" + kScene);
   expectRefused({s, out()}, 1, "miss.lua:2", 10);

@@ -128,19 +128,22 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
             }
             if (n == 0) continue;
             // Nothing between these rays' origins and ends: every one is clear.
-            bool unblocked = false;
+            // Few analytic objects that may block: test those alone.
+            ShadowShafts::Candidates candidates;
             if (coherent && shafts_.enabled()) {
               Bounds3 from, to;
               for (size_t j = 0; j < n; ++j) {
                 from.extend(shadowRays[j].o);
                 to.extend(shadowRays[j].o + shadowRays[j].d);
               }
-              unblocked = shafts_.clear(from, to);
+              candidates = shafts_.candidates(from, to);
             }
-            if (unblocked) {
+            if (candidates.clear) {
               std::fill_n(blocked, n, uint8_t{0});
               shadow -= n;
               counts.shadowSkipped += n;
+            } else if (candidates.direct) {
+              for (size_t j = 0; j < n; ++j) blocked[j] = shafts_.occluded(candidates, shadowRays[j]);
             } else if (coherent) {
               accel_.occludedCoherent(shadowRays, n, blocked);
             } else {

@@ -69,9 +69,11 @@ double maxAbs(const Bounds3 &b, const Vec3 &origin) {
 
 } // namespace
 
-ShadowShafts::ShadowShafts(const Scene &scene) : frameOrigin_(floatFrameOrigin(scene)) {
+ShadowShafts::ShadowShafts(const Scene &scene)
+    : entities_(&scene.entities), frameOrigin_(floatFrameOrigin(scene)) {
   if (scene.entities.size() > kMaxEntities) return;
-  for (const Entity &e : scene.entities) {
+  for (uint32_t index = 0; index < scene.entities.size(); ++index) {
+    const Entity &e = scene.entities[index];
     if (e.isMesh()) {
       if (!e.mesh) continue; // nothing to hit
       const Bounds3 box = widened(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
@@ -80,7 +82,9 @@ ShadowShafts::ShadowShafts(const Scene &scene) : frameOrigin_(floatFrameOrigin(s
           {box, e.worldFromObject.isIdentity() ? 0.0 : kFloatPad * maxAbs(box, frameOrigin_)});
     } else if (shapeBounded(e)) {
       boxes_.push_back(widened(shapeWorldBounds(e)));
+      boxEntity_.push_back(index);
     } else {
+      planeEntity_.push_back(index);
       // A Plane: y = 0 in object space.
       const Vec3 n = normalize(e.worldFromObject.applyNormal({0, 1, 0}));
       planes_.push_back({n, dot(n, e.worldFromObject.applyPoint({0, 0, 0})),
@@ -91,21 +95,30 @@ ShadowShafts::ShadowShafts(const Scene &scene) : frameOrigin_(floatFrameOrigin(s
   enabled_ = true;
 }
 
-bool ShadowShafts::clear(const Bounds3 &origins, const Bounds3 &targets) const {
-  if (!enabled_) return false;
+ShadowShafts::Candidates ShadowShafts::candidates(const Bounds3 &origins,
+                                                  const Bounds3 &targets) const {
+  Candidates c;
+  if (!enabled_) return c;
+  c.direct = true;
+  auto add = [&](uint32_t entity) {
+    if (c.count == kMaxDirect) c.direct = false;
+    else c.entity[c.count++] = entity;
+  };
   const Bounds3 a = widened(origins), b = widened(targets);
-  for (const Bounds3 &box : boxes_)
-    if (shaftMeetsBox(a, b, box)) return false;
+  // Meshes first: one that may block sends the batch to the backend.
   const double rayPad = kFloatPad * std::max(maxAbs(a, frameOrigin_), maxAbs(b, frameOrigin_));
   for (const MeshBox &m : meshes_) {
     const double pad = rayPad + m.ownPad;
     if (shaftMeetsBox(a, b, {m.box.lo - Vec3(pad, pad, pad), m.box.hi + Vec3(pad, pad, pad)}))
-      return false;
+      return {};
   }
+  for (size_t i = 0; i < boxes_.size() && c.direct; ++i)
+    if (shaftMeetsBox(a, b, boxes_[i])) add(boxEntity_[i]);
   // A plane can block only if the shaft's corners are not all strictly on
   // one side of it (the hull of the corners is the shaft).
-  for (const HalfSpace &h : planes_) {
-    int above = 0, below = 0;
+  for (size_t i = 0; i < planes_.size() && c.direct; ++i) {
+    const HalfSpace &h = planes_[i];
+    int above = 0, below = 0, on = 0;
     for (const Bounds3 *box : {&a, &b})
       for (int k = 0; k < 8; ++k) {
         const Vec3 p((k & 1) ? box->hi.x : box->lo.x, (k & 2) ? box->hi.y : box->lo.y,
@@ -116,11 +129,19 @@ bool ShadowShafts::clear(const Bounds3 &origins, const Bounds3 &targets) const {
                                   std::fabs(p.y) + std::fabs(p.z));
         if (d > tolerance) ++above;
         else if (d < -tolerance) ++below;
-        else return false; // on the plane, within rounding: it may block
+        else ++on; // on the plane, within rounding: it may block
       }
-    if (above && below) return false;
+    if (on || (above && below)) add(planeEntity_[i]);
   }
-  return true;
+  if (!c.direct) return {};
+  c.clear = c.count == 0;
+  return c;
+}
+
+bool ShadowShafts::occluded(const Candidates &c, const Ray &ray) const {
+  for (size_t i = 0; i < c.count; ++i)
+    if (occludedShape((*entities_)[c.entity[i]], ray)) return true;
+  return false;
 }
 
 } // namespace lray

@@ -1,12 +1,14 @@
 // Pipeline: shading. Exact shadow skips by shaft culling (Haines and Wallace
-// 1994): every shadow ray of a tile towards one light runs inside the
-// convex hull of the box around the rays' origins and the box around the
-// light's sample points. If no occluder's bounds meet that shaft, no ray
-// can be blocked, and none is traced: the image is the same bytes as
-// tracing them (tests/shading/shadow_shaft_test.cpp checks both backends).
+// 1994): a batch of a tile's shadow rays (one light sample each) runs
+// inside the convex hull of the box around their origins and the box
+// around their ends. If no occluder's bounds meet that shaft, no ray can be
+// blocked and none is traced; if only a few analytic shapes do, the rays
+// are tested against those alone. Either way the image is the same bytes
+// as tracing them (tests/shading/shadow_shaft_test.cpp, both backends).
 #pragma once
 
 #include "geometry/bounds.h"
+#include "math/ray.h"
 #include "scene/scene.h"
 
 #include <cstddef>
@@ -25,9 +27,26 @@ public:
 
   bool enabled() const { return enabled_; }
 
-  /// Whether no occluder can block a segment from a point of `origins` to
-  /// a point of `targets` (both non-empty boxes).
-  bool clear(const Bounds3 &origins, const Bounds3 &targets) const;
+  /// Most candidates tested directly (Candidates::direct).
+  static constexpr size_t kMaxDirect = 4;
+
+  /// What may block the segments from points of one box to points of another.
+  struct Candidates {
+    bool clear = false;  ///< nothing: every segment is clear
+    bool direct = false; ///< only the analytic entities listed: test those alone
+    size_t count = 0;
+    uint32_t entity[kMaxDirect];
+  };
+  Candidates candidates(const Bounds3 &origins, const Bounds3 &targets) const;
+  bool clear(const Bounds3 &origins, const Bounds3 &targets) const {
+    return candidates(origins, targets).clear;
+  }
+
+  /// Whether one of `c`'s entities blocks `ray` (c.direct): the same
+  /// occludedShape both backends call for an analytic shape, with the same
+  /// ray (a shadow ray's tMax of 1 is exact in float too), so the answer is
+  /// theirs.
+  bool occluded(const Candidates &c, const Ray &ray) const;
 
 private:
   struct HalfSpace {
@@ -45,8 +64,11 @@ private:
     double ownPad; ///< 0 for an identity-placed mesh
   };
   bool enabled_ = false;
+  const std::vector<Entity> *entities_ = nullptr;
   Vec3 frameOrigin_;
   std::vector<Bounds3> boxes_;    ///< analytic bounded entities, widened by a few ulps
+  std::vector<uint32_t> boxEntity_;   ///< the entity of boxes_[i]
+  std::vector<uint32_t> planeEntity_; ///< the entity of planes_[i]
   std::vector<MeshBox> meshes_;
   std::vector<HalfSpace> planes_; ///< unbounded entities (Plane)
 };

@@ -1,12 +1,25 @@
 // Pipeline: script -> scene description. See lua_allocator.h.
 #include "bindings/lua_allocator.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 #include <sys/mman.h>
 
 namespace lray::lua {
+
+std::string LuaAllocator::limitMessage() const {
+  char size[32];
+  if (limit_ >= (size_t{1} << 30) && limit_ % (size_t{1} << 30) == 0)
+    std::snprintf(size, sizeof size, "%zu GiB", limit_ >> 30);
+  else if (limit_ >= (size_t{1} << 20) && limit_ % (size_t{1} << 20) == 0)
+    std::snprintf(size, sizeof size, "%zu MiB", limit_ >> 20);
+  else
+    std::snprintf(size, sizeof size, "%zu bytes", limit_);
+  return std::string("the script needed more than ") + size +
+         " of memory and was stopped (raise the limit with --script-memory)";
+}
 
 LuaAllocator::~LuaAllocator() {
   for (void *slab : slabs_) std::free(slab);

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace lray::lua {
@@ -34,6 +35,9 @@ public:
   const std::shared_ptr<ExternalMemory> &external() const { return external_; }
   /// Whether the Lua heap and the external memory together are past the limit.
   bool overLimit() const { return limit_ && inUse_ + external_->bytes.load() > limit_; }
+  /// "the script needed more than <limit> of memory and was stopped (...)":
+  /// the one message for a script past the limit, whoever noticed it.
+  std::string limitMessage() const;
   /// Whether a request was refused since the last call (and clears it).
   bool takeRefused() {
     bool r = refused_;

@@ -186,12 +186,7 @@ std::string BindingContext::resolvePath(const std::string &file) const {
 
 void BindingContext::checkMemory(const char *what) const {
   if (!allocator || !allocator->overLimit()) return;
-  const size_t limit = allocator->limit();
-  const std::string size = limit % (size_t{1} << 20) == 0
-                               ? std::to_string(limit >> 20) + " MiB"
-                               : std::to_string(limit) + " bytes";
-  throw ScriptError(std::string(what) + ": the script needed more than " + size +
-                    " of memory and was stopped (raise the limit with --script-memory)");
+  throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
 }
 
 std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {

@@ -23,11 +23,7 @@ struct SceneScript::Impl {
 namespace {
 
 std::string readScript(const std::string &path, uint64_t maxBytes) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > maxBytes)
-    throw SceneError(path + ": " + std::to_string(size) + " bytes, more than the limit of " +
-                     std::to_string(maxBytes) + " for a scene file (raise it with --max-file-size)");
+  checkFileSize(path, path, maxBytes, " for a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;

@@ -46,17 +46,6 @@ int panic(lua_State *L) {
 // loop is stopped within milliseconds of its deadline.
 constexpr int kHookInstructions = 10000;
 
-std::string formatBytes(size_t bytes) {
-  char text[32];
-  if (bytes >= (size_t{1} << 30) && bytes % (size_t{1} << 30) == 0)
-    std::snprintf(text, sizeof text, "%zu GiB", bytes >> 30);
-  else if (bytes >= (size_t{1} << 20) && bytes % (size_t{1} << 20) == 0)
-    std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
-  else
-    std::snprintf(text, sizeof text, "%zu bytes", bytes);
-  return text;
-}
-
 } // namespace
 
 ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &options)
@@ -140,8 +129,7 @@ void ScriptState::protectedCall(int nargs, int nresults) {
       // Lua raises memory errors without a position or the message handler.
       const SourceLocation where = ctx_->resolve(ctx_->lastSeen);
       throw SceneError((where.line > 0 ? where.str() : chunk_) + ": " +
-                       "the script needed more than " + formatBytes(allocator_->limit()) +
-                       " of memory and was stopped (raise the limit with --script-memory)");
+                       allocator_->limitMessage());
     }
     throw SceneError(message);
   }

@@ -54,22 +54,31 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
 }
 
 void SampleBuffer::writeTo(Film &film) const {
-  double errorSum = 0, errorMax = 0;
-  size_t withError = 0;
-  uint64_t samples = 0;
-  uint32_t most = 0;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       const float *s = &sums_[i * 6];
       const uint32_t n = count_[i];
       film.set(x, y, n ? Color(s[0], s[1], s[2]) / static_cast<double>(n) : Color());
-      const double e = error(i);
-      film.setError(x, y, static_cast<float>(e));
+      film.setError(x, y, static_cast<float>(error(i)));
       film.setSampleCount(x, y, n);
+    }
+  }
+  summarizeSampling(film);
+}
+
+void summarizeSampling(Film &film) {
+  double errorSum = 0, errorMax = 0;
+  size_t withError = 0;
+  uint64_t samples = 0;
+  uint32_t most = 0;
+  for (int y = 0; y < film.height(); ++y) {
+    for (int x = 0; x < film.width(); ++x) {
+      const uint32_t n = film.sampleCount(x, y);
       samples += n;
       most = std::max(most, n);
       if (n >= 2) {
+        const double e = film.error(x, y);
         errorSum += e;
         errorMax = std::max(errorMax, e);
         ++withError;

@@ -58,4 +58,9 @@ private:
   std::vector<uint8_t> active_;
 };
 
+/// The report's sample and error figures (samples, maxPixelSamples,
+/// hasError, meanError and maxError over the pixels with two or more
+/// samples) from the film's own error and sample-count channels.
+void summarizeSampling(Film &film);
+
 } // namespace lray

@@ -39,6 +39,9 @@ struct TileRect {
         y1(std::min(y0 + kTileSize, height)) {}
   int width() const { return x1 - x0; }
   size_t pixels() const { return static_cast<size_t>(x1 - x0) * (y1 - y0); }
+  /// Image coordinates of the tile's pixel i (row by row).
+  int x(size_t i) const { return x0 + static_cast<int>(i) % width(); }
+  int y(size_t i) const { return y0 + static_cast<int>(i) / width(); }
 };
 
 /// The random offset of a pixel's light strata (Integrator, lightShares):
@@ -83,7 +86,6 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
                 bool spreadLight, bool pairedStrata, const Position &position, tile_detail::TileWork<Accel> &work,
                 RayCounts &counts) {
   const size_t count = rect.pixels();
-  const int tileWidth = rect.width();
   uint32_t begin = end;
   for (size_t i = 0; i < count; ++i) {
     work.sums[i] = Color();
@@ -95,8 +97,7 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
     size_t rays = 0;
     for (size_t i = 0; i < count; ++i) {
       if (work.first[i] > s) continue;
-      const int x = rect.x0 + static_cast<int>(i) % tileWidth;
-      const int y = rect.y0 + static_cast<int>(i) / tileWidth;
+      const int x = rect.x(i), y = rect.y(i);
       const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
       Sampler &sampler = work.samplers[rays];
       sampler = Sampler(settings.stream(), pixel, s);
@@ -200,6 +201,13 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   tbb::combinable<RayCounts> perThread;
   using Tiles = tbb::blocked_range<size_t>;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
+  // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s.
+  auto sobolPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
+                           double &py) {
+    owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
+    px += x;
+    py += y;
+  };
 
   if (!settings.adaptive) {
     // Fixed sampling: n x n samples per pixel at the same Owen-scrambled
@@ -209,16 +217,14 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     // 1.4x lower RMSE than one random position).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
-    auto fixedPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
-                             double &py) {
+    auto fixedPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &sampler,
+                             double &px, double &py) {
       if (n == 1) {
         px = x + 0.5;
         py = y + 0.5;
         return;
       }
-      owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
-      px += x;
-      py += y;
+      sobolPosition(x, y, pixel, s, sampler, px, py);
     };
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
@@ -231,8 +237,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         std::fill_n(work.first.begin(), count, 0u);
         sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition, work, local);
         for (size_t i = 0; i < count; ++i) {
-          const int x = rect.x0 + static_cast<int>(i) % rect.width();
-          const int y = rect.y0 + static_cast<int>(i) / rect.width();
+          const int x = rect.x(i), y = rect.y(i);
           film.set(x, y, work.sums[i] * invSamples);
           film.setError(x, y, static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
           film.setSampleCount(x, y, total);
@@ -243,21 +248,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });
     if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
-    // The report's figures from the film's own channels.
-    SamplingReport &report = film.report;
-    report.passes = 1;
-    report.samples = static_cast<uint64_t>(total) * film.pixels();
-    report.maxPixelSamples = total;
-    report.hasError = total >= 2;
-    if (report.hasError) {
-      double sum = 0, most = 0;
-      for (float e : film.errorData()) {
-        sum += e;
-        most = std::max(most, static_cast<double>(e));
-      }
-      report.meanError = sum / static_cast<double>(film.pixels());
-      report.maxError = most;
-    }
+    summarizeSampling(film);
+    film.report.passes = 1;
     return;
   }
 
@@ -271,8 +263,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                     std::chrono::duration<double>(timed ? adaptive.timeLimit : 0));
   std::atomic<bool> timeUp{false}, cancelled{false};
-  SamplingReport report;
-  uint32_t target = std::min(minSamples, maxSamples);
+  int passes = 0;
+  uint32_t target = minSamples; // maxSamples >= minSamples
   for (int pass = 0;; ++pass) {
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
@@ -295,29 +287,20 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         }
         const size_t count = rect.pixels();
         for (size_t i = 0; i < count; ++i) {
-          const size_t p = buffer.index(rect.x0 + static_cast<int>(i) % rect.width(),
-                                        rect.y0 + static_cast<int>(i) / rect.width());
+          const size_t p = buffer.index(rect.x(i), rect.y(i));
           work.first[i] = buffer.active(p) ? buffer.count(p) : target;
         }
         sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
-                   [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
-                       double &py) {
-                     owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
-                     px += x;
-                     py += y;
-                   },
-                   work, local);
-        for (size_t i = 0; i < count; ++i) {
-          if (!work.taken[i]) continue;
-          const size_t p = buffer.index(rect.x0 + static_cast<int>(i) % rect.width(),
-                                        rect.y0 + static_cast<int>(i) / rect.width());
-          buffer.add(p, work.sums[i], work.oddSums[i], work.taken[i]);
-        }
+                   sobolPosition, work, local);
+        for (size_t i = 0; i < count; ++i)
+          if (work.taken[i])
+            buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
+                       work.taken[i]);
         size_t done = ++tilesDone;
         if (progress) progress(done, tileCount);
       }
     });
-    ++report.passes;
+    ++passes;
     if (timeUp || cancelled || target >= maxSamples) break;
     if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
     if (timed && std::chrono::steady_clock::now() >= deadline) {
@@ -337,7 +320,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   perThread.combine_each([&](const RayCounts &c) { counts += c; });
   buffer.writeTo(film);
   if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
-  film.report.passes = report.passes;
+  film.report.passes = passes;
   film.report.timeLimitHit = timeUp;
   film.report.cancelled = cancelled;
 }

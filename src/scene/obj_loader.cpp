@@ -1,6 +1,8 @@
 // Pipeline: scene description. OBJ text -> MeshSource (see obj_loader.h).
 #include "scene/obj_loader.h"
 
+#include "scene/scene_checks.h"
+
 #include "scene/scene_error.h"
 
 #include <charconv>
@@ -164,10 +166,7 @@ MeshSource loadObj(const std::string &path, const std::string &displayName, uint
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw SceneError(displayName + ": not a regular file (" + path + ")");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > maxBytes)
-    throw SceneError(displayName + ": " + std::to_string(size) + " bytes, more than the limit of " +
-                     std::to_string(maxBytes) + " (raise it with --max-file-size)");
+  checkFileSize(path, displayName, maxBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(displayName + ": cannot open OBJ file");
   std::ostringstream buffer;

@@ -1,6 +1,8 @@
 // Pipeline: scene description. See scene_checks.h.
 #include "scene/scene_checks.h"
 
+#include <filesystem>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -31,6 +33,15 @@ void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::str
                               std::to_string(static_cast<unsigned long long>(pixels)) +
                               " exceeds the limit of " + std::to_string(maxPixels) +
                               " (raise it with --max-pixels)");
+}
+
+void checkFileSize(const std::string &path, const std::string &name, uint64_t maxBytes,
+                   const char *kind) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > maxBytes)
+    throw SceneError(name + ": " + std::to_string(size) + " bytes, more than the limit of " +
+                     std::to_string(maxBytes) + kind + " (raise it with --max-file-size)");
 }
 
 void validateLightWork(const Scene &scene, uint64_t maxLightSamples) {

@@ -24,6 +24,14 @@ inline constexpr uint64_t kDefaultMaxLightSamples = 65536;
 /// 100000 area light renders for days); the message names the flag.
 void validateLightWork(const Scene &scene, uint64_t maxLightSamples);
 
+/// Throws SceneError("<name>: N bytes, more than the limit of M<kind> (raise
+/// it with --max-file-size)") when the file at `path` is larger than
+/// `maxBytes`: text formats are read whole before they are parsed. `kind`
+/// is "" or, say, " for a scene file". A file whose size cannot be read
+/// passes (opening it reports the problem).
+void checkFileSize(const std::string &path, const std::string &name, uint64_t maxBytes,
+                   const char *kind = "");
+
 /// Throws SceneError (prefixed with `where`, e.g. the script name) when a
 /// size is not a positive integer, the clocks are not finite, or
 /// width * height * samples^2 exceeds maxPixels.

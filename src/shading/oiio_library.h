@@ -9,6 +9,7 @@
 #include "shading/texture_image.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,15 @@ namespace lray {
 /// Largest texture decoded (width * height): 2^28 texels, 3 GiB as float
 /// RGB, a 16384 x 16384 image.
 inline constexpr size_t kMaxTextureTexels = size_t{1} << 28;
+
+/// The error for an image whose header claims more than kMaxTextureTexels
+/// (both decoders check the header before allocating).
+inline SceneError textureTooLarge(const SourceLocation &loc, const std::string &path,
+                                  uint64_t width, uint64_t height) {
+  return SceneError(loc, "ImagePigment2D: image '" + path + "' is " + std::to_string(width) +
+                             " x " + std::to_string(height) + " texels, more than the limit of " +
+                             std::to_string(kMaxTextureTexels));
+}
 
 /// The module's entry points (C++ types: it is built with the same
 /// compiler and flags, and loaded into the same process).

@@ -35,10 +35,7 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   // The header's size is checked before anything is allocated from it: a
   // 100000 x 100000 header in a tiny file would ask for 120 GB.
-  if (texels > kMaxTextureTexels)
-    throw SceneError(loc, "ImagePigment2D: image '" + path + "' is " + std::to_string(spec.width) +
-                              " x " + std::to_string(spec.height) + " texels, more than the " +
-                              "limit of " + std::to_string(kMaxTextureTexels));
+  if (texels > kMaxTextureTexels) throw textureTooLarge(loc, path, spec.width, spec.height);
   TextureImage image;
   image.width = spec.width;
   image.height = spec.height;

@@ -65,12 +65,8 @@ std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool 
   uint64_t pngWidth = 0, pngHeight = 0;
   const Kind kind = kindOf(path, pngWidth, pngHeight);
   if (kind == Kind::Other) return std::nullopt;
-  auto tooBig = [&](uint64_t width, uint64_t height) {
-    throw SceneError(loc, "ImagePigment2D: image '" + path + "' is " + std::to_string(width) +
-                              " x " + std::to_string(height) + " texels, more than the " +
-                              "limit of " + std::to_string(kMaxTextureTexels));
-  };
-  if (pngWidth * pngHeight > kMaxTextureTexels) tooBig(pngWidth, pngHeight);
+  if (pngWidth * pngHeight > kMaxTextureTexels)
+    throw textureTooLarge(loc, path, pngWidth, pngHeight);
   // A PNG that stb cannot read is reported here: OpenImageIO's libpng
   // would print its own "libpng error" line before LRay's message.
   auto broken = [&]() -> std::optional<TextureImage> {
@@ -83,7 +79,7 @@ std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool 
     return broken();
   if (kind == Kind::Png && stbi_is_16_bit(path.c_str())) return std::nullopt;
   const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height);
-  if (texels > kMaxTextureTexels) tooBig(width, height);
+  if (texels > kMaxTextureTexels) throw textureTooLarge(loc, path, width, height);
   std::unique_ptr<stbi_uc, void (*)(void *)> data(
       stbi_load(path.c_str(), &width, &height, &channels, 0), &stbi_image_free);
   if (!data) return broken();

@@ -41,9 +41,8 @@ const Member *findMember(lua_State *L, int membersUpvalue, int key, bool *isMeth
   return m;
 }
 
-void assign(lua_State *L, const ClassInfo &cls, int self, int key, int value) {
-  bool isMethod = false;
-  const Member *m = findMember(L, 1, key, &isMethod);
+void assignMember(lua_State *L, const ClassInfo &cls, const Member *m, bool isMethod, int self,
+                  int key, int value) {
   if (!m) {
     if (isMethod)
       throw ScriptError(cls.name + ": cannot assign to method '" + lua_tostring(L, key) + "'");
@@ -58,6 +57,12 @@ void assign(lua_State *L, const ClassInfo &cls, int self, int key, int value) {
                       e.given);
   }
   lua_settop(L, top);
+}
+
+void assign(lua_State *L, const ClassInfo &cls, int self, int key, int value) {
+  bool isMethod = false;
+  const Member *m = findMember(L, 1, key, &isMethod);
+  assignMember(L, cls, m, isMethod, self, key, value);
 }
 
 int indexThunk(lua_State *L) {
@@ -130,6 +135,19 @@ size_t editDistance(const std::string &a, const std::string &b) {
 }
 
 } // namespace
+
+void assignAttribute(lua_State *L, const ClassInfo &cls, int self, int key, int value) {
+  self = lua_absindex(L, self);
+  key = lua_absindex(L, key);
+  value = lua_absindex(L, value);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, cls.membersRef);
+  lua_pushvalue(L, key);
+  const int type = lua_rawget(L, -2);
+  const Member *m = type == LUA_TLIGHTUSERDATA ? static_cast<const Member *>(lua_touserdata(L, -1))
+                                               : nullptr;
+  lua_pop(L, 2);
+  assignMember(L, cls, m, type == LUA_TFUNCTION, self, key, value);
+}
 
 int nextTypeIndex() {
   static std::atomic<int> next{0};

@@ -699,6 +699,11 @@ private:
   ClassInfo &cls_;
 };
 
+/// `obj.key = value` for the object at `self` of class `cls` (key a string),
+/// with the same checks and messages: for constructors that take attributes
+/// in their argument table.
+void assignAttribute(lua_State *L, const ClassInfo &cls, int self, int key, int value);
+
 /// Registers classes and global functions into one lua_State.
 class Registry {
 public:

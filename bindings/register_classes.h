@@ -9,6 +9,7 @@ namespace lray::lua {
 void registerValueClasses(Registry &reg);   ///< Vector, Color, Transform and its factories
 void registerTextureClasses(Registry &reg); ///< Texture, Finish, pigments, texture maps
 void registerEntityClasses(Registry &reg);  ///< the shapes, Mesh, mesh_from_obj
+void registerCsgClasses(Registry &reg);     ///< Union, Merge, Intersection, Difference
 void registerSceneClasses(Registry &reg);   ///< SceneInfo, Scene, Perspective, the lights
 
 /// All of the above, in dependency order; the state's BindingContext must be attached.

@@ -56,16 +56,26 @@ template <class V> std::string classNames() {
   return classNames<V>(std::make_index_sequence<std::variant_size_v<V>>{});
 }
 
+/// The shape classes, with the CSG shape's four operator classes.
+std::string entityClassNames() {
+  std::string shapes = classNames<Shape>();
+  const std::string csg = std::string(" or ") + Csg::kName;
+  if (shapes.size() > csg.size() && shapes.ends_with(csg)) shapes.resize(shapes.size() - csg.size());
+  return shapes + ", Union, Merge, Intersection or Difference";
+}
+
 void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int argument,
                lua_Integer listIndex) {
   if (const EntityObj *e = toObject<EntityObj>(L, value)) {
-    scene.entities.push_back({e, false});
+    scene.entities.push_back({e, EntityRefKind::Shape});
   } else if (const MeshObj *m = toObject<MeshObj>(L, value)) {
-    scene.entities.push_back({m, true});
+    scene.entities.push_back({m, EntityRefKind::Mesh});
+  } else if (const CsgObj *c = toObject<CsgObj>(L, value)) {
+    scene.entities.push_back({c, EntityRefKind::Csg});
   } else {
     std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
     throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
-                      where + " expects an entity (" + classNames<Shape>() + "), got " +
+                      where + " expects an entity (" + entityClassNames() + "), got " +
                       typeName(L, value));
   }
   keepAlive(L, 1, value);
@@ -183,6 +193,7 @@ void registerAllClasses(lua_State *L) {
   registerValueClasses(reg);
   registerTextureClasses(reg);
   registerEntityClasses(reg);
+  registerCsgClasses(reg);
   registerSceneClasses(reg);
 }
 

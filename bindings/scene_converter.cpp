@@ -1,12 +1,21 @@
 // Pipeline: script -> scene description. See scene_converter.h.
 #include "bindings/scene_converter.h"
 
+#include "geometry/csg_tree.h"
+
+#include <memory>
+
 #include <unordered_map>
 #include <unordered_set>
 
 namespace lray::lua {
 
 namespace {
+
+/// Limits on CSG trees from scripts: nesting (the converter recurses over
+/// it) and the solids in one tree (every one is tested per ray).
+constexpr int kMaxCsgNesting = 64;
+constexpr size_t kMaxCsgSolids = 4096;
 
 class Converter {
 public:
@@ -22,10 +31,17 @@ public:
     for (const LightObj *light : in.lights) out_.lights.push_back(this->light(*light));
     out_.entities.reserve(in.entities.size());
     for (const EntityRef &ref : in.entities) {
-      if (ref.isMesh)
+      switch (ref.kind) {
+      case EntityRefKind::Mesh:
         out_.entities.push_back(mesh(*static_cast<const MeshObj *>(ref.object)));
-      else
+        break;
+      case EntityRefKind::Shape:
         out_.entities.push_back(shape(*static_cast<const EntityObj *>(ref.object)));
+        break;
+      case EntityRefKind::Csg:
+        csg(*static_cast<const CsgObj *>(ref.object), Transform(), Inherited{}, 0);
+        break;
+      }
     }
     return std::move(out_);
   }
@@ -55,6 +71,141 @@ private:
     out.worldFromObject = transform(e.transform, out.loc, shapeName(e.shape));
     out.texture = texture(e.texture);
     return out;
+  }
+
+  // ---- CSG ---------------------------------------------------------------------
+  // A top-level Union is its children as entities of their own: it keeps
+  // every child's surface, so it is a group, and the backends' trees do
+  // better with its parts than a CSG test of all of them per ray. Every
+  // other operator becomes one CSG entity holding its whole tree.
+
+  /// The texture children without their own take, and the space of the node
+  /// it was set on (its pigment is evaluated there: POV-Ray's rule).
+  struct Inherited {
+    const TextureObj *texture = nullptr;
+    Transform space;
+    bool set = false;
+  };
+
+  Inherited inherit(const CsgObj &c, const Transform &world, const Inherited &above) {
+    if (!c.texture) return above;
+    return {c.texture, world, true};
+  }
+
+  /// World placement of a child placed by `a` under a node placed at `world`.
+  Transform place(const Transform &world, const Affine &a, const SourceLocation &loc,
+                  const char *what) {
+    Transform t = world * transform(a, loc, what);
+    if (t.singular()) throw SceneError(loc, std::string(what) + ": the transform is singular");
+    return t;
+  }
+
+  Entity csgLeaf(const EntityObj &e, const Transform &parentWorld, const Inherited &inherited,
+                 bool &inheritsTexture) {
+    Entity out = shape(e);
+    if (const char *why = notSolidShape(out.shape))
+      throw SceneError(out.loc, std::string(shapeName(out.shape)) + " in a CSG: " + why);
+    out.worldFromObject = place(parentWorld, e.transform, out.loc, shapeName(out.shape));
+    inheritsTexture = !e.texture && inherited.set;
+    if (inheritsTexture) out.texture = texture(inherited.texture);
+    return out;
+  }
+
+  void csg(const CsgObj &c, const Transform &parentWorld, const Inherited &above, int depth) {
+    const SourceLocation loc = ctx_.resolve(c.loc);
+    const char *name = csgOpName(c.op);
+    checkCsgDepth(loc, name, depth);
+    const Transform world = place(parentWorld, c.transform, loc, name);
+    const Inherited inherited = inherit(c, world, above);
+    if (c.op != CsgOp::Union) {
+      out_.entities.push_back(csgEntity(c, world, inherited, depth));
+      return;
+    }
+    for (const EntityRef &child : c.children) {
+      if (child.kind == EntityRefKind::Csg) {
+        csg(*static_cast<const CsgObj *>(child.object), world, inherited, depth + 1);
+        continue;
+      }
+      bool inherits = false;
+      Entity leaf = csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
+      if (!inherits) {
+        out_.entities.push_back(std::move(leaf));
+        continue;
+      }
+      // Its pigment lives in the Union's space: a CSG entity of one leaf.
+      auto tree = std::make_shared<CsgTree>();
+      tree->addNode(CsgOp::Union, CsgTree::kNoParent);
+      addLeaf(*tree, std::move(leaf), 0, inherited);
+      tree->finish();
+      out_.entities.push_back(csgEntityOf(std::move(tree), world, loc));
+    }
+  }
+
+  void addLeaf(CsgTree &tree, Entity leaf, uint32_t parent, const Inherited &inherited) {
+    const uint32_t i = tree.addLeaf(std::move(leaf), parent);
+    tree.leaves[i].inheritsTexture = true;
+    tree.leaves[i].textureSpace = inherited.space;
+  }
+
+  Entity csgEntityOf(std::shared_ptr<CsgTree> tree, const Transform &world, const SourceLocation &loc) {
+    Entity out;
+    out.loc = loc;
+    out.worldFromObject = world;
+    out.texture = tree->leaves.front().entity.texture;
+    out.shape = Csg{std::move(tree)};
+    return out;
+  }
+
+  Entity csgEntity(const CsgObj &root, const Transform &world, const Inherited &inherited,
+                   int depth) {
+    auto tree = std::make_shared<CsgTree>();
+    const SourceLocation loc = ctx_.resolve(root.loc);
+    csgNode(*tree, root, CsgTree::kNoParent, world, inherited, depth);
+    if (tree->leaves.size() > kMaxCsgSolids)
+      throw SceneError(loc, std::string(csgOpName(root.op)) + ": " +
+                                std::to_string(tree->leaves.size()) +
+                                " solids in one tree, more than " + std::to_string(kMaxCsgSolids) +
+                                " (each ray meeting its bounds tests every one; a Union of "
+                                "groups is free: only Merge, Intersection and Difference are "
+                                "one tree)");
+    tree->finish();
+    return csgEntityOf(std::move(tree), world, loc);
+  }
+
+  /// Node `c` placed at `world` (its own transform applied) under `parent`.
+  void csgNode(CsgTree &tree, const CsgObj &c, uint32_t parent, const Transform &world,
+               const Inherited &inherited, int depth) {
+    const uint32_t node = tree.addNode(c.op, parent);
+    for (const EntityRef &child : c.children) {
+      if (tree.leaves.size() > kMaxCsgSolids) return; // csgEntity reports it
+      if (child.kind == EntityRefKind::Csg) {
+        const CsgObj &sub = *static_cast<const CsgObj *>(child.object);
+        const SourceLocation loc = ctx_.resolve(sub.loc);
+        const char *name = csgOpName(sub.op);
+        checkCsgDepth(loc, name, depth + 1);
+        const Transform subWorld = place(world, sub.transform, loc, name);
+        csgNode(tree, sub, node, subWorld, inherit(sub, subWorld, inherited), depth + 1);
+        continue;
+      }
+      bool inherits = false;
+      Entity leaf = csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
+      if (inherits) addLeaf(tree, std::move(leaf), node, inherited);
+      else tree.addLeaf(std::move(leaf), node);
+    }
+  }
+
+  static void checkCsgDepth(const SourceLocation &loc, const char *name, int depth) {
+    if (depth > kMaxCsgNesting)
+      throw SceneError(loc, std::string(name) + ": CSG nodes are nested more than " +
+                                std::to_string(kMaxCsgNesting) + " deep");
+  }
+
+  static const char *notSolidShape(const Shape &shape) {
+    if (const auto *c = std::get_if<Cylinder>(&shape); c && c->open)
+      return "an open one has no inside (CSG needs solids: set open = false)";
+    if (const auto *c = std::get_if<Cone>(&shape); c && c->open)
+      return "an open one has no inside (CSG needs solids: set open = false)";
+    return nullptr;
   }
 
   Entity mesh(const MeshObj &m) {

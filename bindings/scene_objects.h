@@ -109,10 +109,25 @@ struct LightObj {
   ScriptLoc loc;
 };
 
-/// One entry of Scene:add_entity, in call order.
+/// What an EntityRef points to.
+enum class EntityRefKind : uint8_t { Shape, Mesh, Csg };
+
+/// One entry of Scene:add_entity (or of a CSG node's children), in order.
 struct EntityRef {
-  const void *object;
-  bool isMesh;
+  const void *object; ///< EntityObj, MeshObj or CsgObj, by `kind`
+  EntityRefKind kind;
+};
+
+/// Union, Merge, Intersection and Difference (geometry/shapes/csg.h). The
+/// children are kept alive by a Lua table in user value kChildrenSlot.
+struct CsgObj {
+  static constexpr const char *kLuaName = "a CSG node (Union, Merge, Intersection or Difference)";
+  static constexpr int kChildrenSlot = 2; ///< after the texture's (slot 1)
+  Affine transform;              ///< on top of the children's own
+  TextureObj *texture = nullptr; ///< null: none; children without one inherit it
+  ScriptLoc loc;
+  CsgOp op = CsgOp::Union;
+  std::vector<EntityRef> children; ///< shapes and CSG nodes
 };
 
 struct SceneObj {

@@ -6,6 +6,7 @@ list(APPEND LRAY_CORE_SOURCES
   bindings/register_values.cpp
   bindings/register_textures.cpp
   bindings/register_entities.cpp
+  bindings/register_csg.cpp
   bindings/register_scene.cpp
   bindings/sandbox.cpp
   bindings/scene_converter.cpp

@@ -8,6 +8,8 @@
 #include "geometry/shape.h"
 
 #include "geometry/affine.h"
+#include "geometry/csg_ray.h"
+#include "geometry/csg_tree.h"
 #include "geometry/error_bound.h"
 
 namespace lray {
@@ -80,14 +82,11 @@ double refineHitT(const S &shape, const Entity &entity, const Ray &worldRay, dou
   return std::isfinite(refined) ? refined : t;
 }
 
+/// The hit of an object-space test's result `oh` on `ray` (the shifted
+/// object ray of `worldRay`, re-origined by `shift`).
 template <class S>
-bool intersectAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex,
-                       const Ray &worldRay, Hit &hit) {
-  Ray farRay = objectRay(entity, worldRay);
-  double shift = shape.originShift(farRay);
-  Ray ray = shifted(farRay, shift);
-  ObjectHit oh;
-  if (!shape.intersect(ray, oh)) return false;
+bool fillAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
+                  const Ray &ray, double shift, const ObjectHit &oh, Hit &hit) {
   ObjectSurface s = shape.surface(ray, oh);
   const Transform &xf = entity.worldFromObject;
   hit.t = oh.t + shift;
@@ -112,9 +111,22 @@ bool intersectAnalytic(const S &shape, const Entity &entity, uint32_t entityInde
   return true;
 }
 
+template <class S>
+bool intersectAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex,
+                       const Ray &worldRay, Hit &hit) {
+  Ray farRay = objectRay(entity, worldRay);
+  double shift = shape.originShift(farRay);
+  Ray ray = shifted(farRay, shift);
+  ObjectHit oh;
+  if (!shape.intersect(ray, oh)) return false;
+  return fillAnalytic(shape, entity, entityIndex, worldRay, ray, shift, oh, hit);
+}
+
 } // namespace
 
 const char *shapeName(const Shape &shape) {
+  if (const Csg *csg = std::get_if<Csg>(&shape))
+    return csg->tree ? csgOpName(csg->tree->rootOp()) : Csg::kName;
   return std::visit([](const auto &s) { return std::decay_t<decltype(s)>::kName; }, shape);
 }
 
@@ -122,8 +134,17 @@ bool shapeBounded(const Entity &entity) {
   return std::visit(
       [](const auto &s) {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (kAnalyticShape<S>) return S::kBounded;
-        else return true;
+        if constexpr (std::is_same_v<S, Csg>) {
+          if (!s.tree) return true;
+          const Bounds3 &b = s.tree->bounds;
+          return b.empty() || (std::isfinite(b.lo.x) && std::isfinite(b.lo.y) &&
+                               std::isfinite(b.lo.z) && std::isfinite(b.hi.x) &&
+                               std::isfinite(b.hi.y) && std::isfinite(b.hi.z));
+        } else if constexpr (kAnalyticShape<S>) {
+          return S::kBounded;
+        } else {
+          return true;
+        }
       },
       entity.shape);
 }
@@ -133,7 +154,8 @@ Bounds3 shapeWorldBounds(const Entity &entity) {
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
         // Meshes: meshObjectBounds + the backend's instance transform.
-        if constexpr (kAnalyticShape<S>)
+        if constexpr (std::is_same_v<S, Csg>) return s.tree ? s.tree->bounds : Bounds3();
+        else if constexpr (kAnalyticShape<S>)
           return padded(s.worldBounds(entity.worldFromObject.matrix()));
         else return Bounds3();
       },
@@ -154,7 +176,9 @@ Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromOb
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
   return std::visit(
       [&](const auto &s) {
-        if constexpr (kAnalyticShape<std::decay_t<decltype(s)>>)
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Csg>) return intersectCsg(s, entityIndex, worldRay, hit);
+        else if constexpr (kAnalyticShape<S>)
           return intersectAnalytic(s, entity, entityIndex, worldRay, hit);
         else return false;
       },
@@ -164,10 +188,44 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
 bool occludedShape(const Entity &entity, const Ray &worldRay) {
   return std::visit(
       [&](const auto &s) {
-        if constexpr (kAnalyticShape<std::decay_t<decltype(s)>>) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Csg>) {
+          return occludedCsg(s, worldRay);
+        } else if constexpr (kAnalyticShape<S>) {
           Ray ray = objectRay(entity, worldRay);
           ObjectHit oh;
           return s.intersect(shifted(ray, s.originShift(ray)), oh);
+        } else {
+          return false;
+        }
+      },
+      entity.shape);
+}
+
+int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift) {
+  return std::visit(
+      [&](const auto &s) {
+        if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
+          Ray farRay = objectRay(entity, worldRay);
+          shift = s.originShift(farRay);
+          return s.spans(shifted(farRay, shift), out);
+        } else {
+          shift = 0;
+          return 0;
+        }
+      },
+      entity.shape);
+}
+
+bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, double tObject,
+                  int part, Hit &hit) {
+  return std::visit(
+      [&](const auto &s) {
+        if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
+          Ray farRay = objectRay(entity, worldRay);
+          double shift = s.originShift(farRay);
+          return fillAnalytic(s, entity, entityIndex, worldRay, shifted(farRay, shift),
+                              shift, ObjectHit{tObject, part}, hit);
         } else {
           return false;
         }

@@ -5,6 +5,7 @@
 
 #include "geometry/bounds.h"
 #include "geometry/hit.h"
+#include "geometry/shapes/span.h"
 #include "math/ray.h"
 #include "scene/scene.h"
 
@@ -28,6 +29,16 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
 
 /// Any intersection with t in (ray.tMin, ray.tMax).
 bool occludedShape(const Entity &entity, const Ray &worldRay);
+
+/// The stretches of the whole line of `worldRay` inside a solid primitive
+/// (a CSG leaf; 0 for Mesh and CSG), in order: parameters of the entity's
+/// object ray re-origined by `shift` (world t = t + shift).
+int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift);
+
+/// intersectShape's hit at a crossing shapeSpans found: `tObject` and
+/// `part` as it gave them. False when the refined t reaches ray.tMax.
+bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, double tObject,
+                  int part, Hit &hit);
 
 /// Object-space bounds of a mesh (positions as stored).
 Bounds3 meshObjectBounds(const MeshData &mesh);

@@ -5,6 +5,8 @@ list(APPEND LRAY_CORE_SOURCES
   src/geometry/shapes/cube.cpp
   src/geometry/shapes/plane.cpp
   src/geometry/shapes/torus.cpp
+  src/geometry/csg_tree.cpp
+  src/geometry/csg_ray.cpp
   src/geometry/shape.cpp
   src/geometry/triangle_hit.cpp
   src/geometry/triangle_hits.cpp

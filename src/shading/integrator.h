@@ -85,7 +85,7 @@ public:
 
   /// The pigment colour at a hit: the albedo a denoiser takes (--aovs).
   Color albedo(const Hit &hit) const {
-    return evaluatePigment(pigmentTable_, materials_.ofEntity(hit.entity).pigment, hit);
+    return evaluatePigment(pigmentTable_, materials_.ofHit(hit).pigment, hit);
   }
 
 private:

@@ -68,7 +68,7 @@ Color Integrator<Accel>::traceRay(const Ray &ray, int depth, double weight, Samp
 
 template <class Accel>
 void Integrator<Accel>::surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const {
-  s.m = &materials_.ofEntity(hit.entity);
+  s.m = &materials_.ofHit(hit);
   // Which side the ray arrives from is decided by the geometric normal.
   s.entering = dot(ray.d, hit.ng) < 0;
   s.n = s.entering ? hit.ns : -hit.ns;

@@ -1,6 +1,8 @@
 // Pipeline: shading. See material_table.h.
 #include "shading/material_table.h"
 
+#include "geometry/csg_tree.h"
+
 namespace lray {
 
 MaterialTable::MaterialTable(const Scene &scene, bool anyLight) {
@@ -10,11 +12,19 @@ MaterialTable::MaterialTable(const Scene &scene, bool anyLight) {
   // Fallback for an out-of-range texture index: default Finish, pigment 0
   // (or black when the table is empty, as evaluatePigment returns for it).
   materials_.push_back(Material::prepare(Finish{}, 0, anyLight));
-  entityMaterial_.reserve(scene.entities.size());
+  const auto material = [&](uint32_t texture) {
+    return texture < scene.textures.size() ? texture : static_cast<uint32_t>(scene.textures.size());
+  };
+  entities_.reserve(scene.entities.size());
   for (const Entity &entity : scene.entities) {
-    entityMaterial_.push_back(entity.texture < scene.textures.size()
-                                  ? entity.texture
-                                  : static_cast<uint32_t>(scene.textures.size()));
+    const Csg *csg = std::get_if<Csg>(&entity.shape);
+    if (!csg || !csg->tree) {
+      entities_.push_back({material(entity.texture), false});
+      continue;
+    }
+    entities_.push_back({static_cast<uint32_t>(leafMaterial_.size()), true});
+    for (const CsgTree::Leaf &leaf : csg->tree->leaves)
+      leafMaterial_.push_back(material(leaf.entity.texture));
   }
 }
 

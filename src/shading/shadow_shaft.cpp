@@ -83,6 +83,8 @@ ShadowShafts::ShadowShafts(const Scene &scene)
     } else if (shapeBounded(e)) {
       boxes_.push_back(widened(shapeWorldBounds(e)));
       boxEntity_.push_back(index);
+    } else if (!std::holds_alternative<Plane>(e.shape)) {
+      unboundedEntity_.push_back(index); // an unbounded CSG: a candidate for every shaft
     } else {
       planeEntity_.push_back(index);
       // A Plane: y = 0 in object space.
@@ -133,6 +135,7 @@ ShadowShafts::Candidates ShadowShafts::candidates(const Bounds3 &origins,
       }
     if (on || (above && below)) add(planeEntity_[i]);
   }
+  for (size_t i = 0; i < unboundedEntity_.size() && c.direct; ++i) add(unboundedEntity_[i]);
   if (!c.direct) return {};
   c.clear = c.count == 0;
   return c;

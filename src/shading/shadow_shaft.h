@@ -69,6 +69,7 @@ private:
   std::vector<Bounds3> boxes_;    ///< analytic bounded entities, widened by a few ulps
   std::vector<uint32_t> boxEntity_;   ///< the entity of boxes_[i]
   std::vector<uint32_t> planeEntity_; ///< the entity of planes_[i]
+  std::vector<uint32_t> unboundedEntity_; ///< unbounded entities but planes (CSG)
   std::vector<MeshBox> meshes_;
   std::vector<HalfSpace> planes_; ///< unbounded entities (Plane)
 };

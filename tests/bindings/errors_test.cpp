@@ -171,10 +171,10 @@ TEST_F(BindingErrorTest, OutOfRangeMeshIndexNamesTheMeshLineAndFace) {
 TEST_F(BindingErrorTest, SceneMethodsCheckTheirArguments) {
   EXPECT_EQ(runLua("Scene():add_entity(Light())"),
             "test.lua:1: Scene:add_entity: argument 1 expects an entity (Sphere, Cylinder, Cone, "
-            "Cube, Mesh, Plane or Torus), got Light");
+            "Cube, Mesh, Plane, Torus, Union, Merge, Intersection or Difference), got Light");
   EXPECT_EQ(runLua("Scene():add_entities({Sphere(), 3})"),
             "test.lua:1: Scene:add_entities: argument 1, entry 2 expects an entity (Sphere, "
-            "Cylinder, Cone, Cube, Mesh, Plane or Torus), got number");
+            "Cylinder, Cone, Cube, Mesh, Plane, Torus, Union, Merge, Intersection or Difference), got number");
   EXPECT_EQ(runLua("Scene():add_light(Sphere())"),
             "test.lua:1: Scene:add_light: argument 1 expects a light (Light or SpotLight), got Sphere");
   EXPECT_EQ(runLua("Scene():add_lights(Light())"),

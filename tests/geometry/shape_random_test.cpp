@@ -172,7 +172,8 @@ Reference reference(const Entity &e, const Ray &world) {
     torusReference(r, t.major, t.minor, o, d);
     break;
   }
-  case ShapeKind::Mesh: break;
+  case ShapeKind::Mesh:
+  case ShapeKind::Csg: break;
   }
   if (r.hit && r.t < kTol) r.ambiguous = true;
   return r;

@@ -6,6 +6,7 @@
 #include "geometry/shapes/disc_bounds.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace lray {
 
@@ -84,6 +85,67 @@ bool Cone::intersect(const Ray &ray, ObjectHit &hit) const {
     }
   }
   return found;
+}
+
+int Cone::spans(const Ray &ray, Span *out) const {
+  const Vec3 &o = ray.o, &d = ray.d;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // Inside both nappes: q(t) = a t^2 + 2 h t + c <= 0 (intersect's
+  // coefficients), one or two stretches of the line ...
+  double k = 1 - o.y;
+  double a = d.x * d.x + d.z * d.z - d.y * d.y;
+  double h = o.x * d.x + o.z * d.z + k * d.y;
+  double c = o.x * o.x + o.z * o.z - k * k;
+  double disc = differenceOfProducts(h, h, a, c);
+  Span in[2];
+  int n = 0;
+  if (a == 0) {
+    // Parallel to a generator: q is linear.
+    if (h != 0) {
+      double t = -c / (2 * h);
+      in[n++] = h > 0 ? Span{-inf, t, -1, 0} : Span{t, inf, 0, -1};
+    } else if (c < 0) {
+      in[n++] = {-inf, inf, -1, -1};
+    }
+  } else if (disc > 0) {
+    double t0, t1;
+    quadraticRoots(a, h, c, disc, t0, t1);
+    if (a > 0) {
+      in[n++] = {t0, t1, 0, 0};
+    } else {
+      in[n++] = {-inf, t0, -1, 0};
+      in[n++] = {t1, inf, 0, -1};
+    }
+  } else if (a < 0) {
+    in[n++] = {-inf, inf, -1, -1}; // q < 0 along the whole line
+  }
+  // ... cut to the slab 0 <= y <= 1, which holds only the lower nappe: the
+  // base (part 1) and the apex plane (the side's tip, part 0).
+  double lo = -inf, hi = inf;
+  int loPart = -1, hiPart = -1;
+  if (d.y != 0) {
+    double t0 = (0.0 - o.y) / d.y, t1 = (1.0 - o.y) / d.y;
+    lo = std::min(t0, t1);
+    hi = std::max(t0, t1);
+    loPart = t0 < t1 ? 1 : 0;
+    hiPart = t0 < t1 ? 0 : 1;
+  } else if (!(o.y > 0 && o.y < 1)) {
+    return 0;
+  }
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    Span s = in[i];
+    if (lo > s.t0) {
+      s.t0 = lo;
+      s.part0 = loPart;
+    }
+    if (hi < s.t1) {
+      s.t1 = hi;
+      s.part1 = hiPart;
+    }
+    if (s.t0 < s.t1) out[count++] = s;
+  }
+  return count;
 }
 
 ObjectSurface Cone::surface(const Ray &ray, const ObjectHit &hit) const {

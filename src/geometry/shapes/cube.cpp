@@ -23,10 +23,14 @@ Bounds3 Cube::worldBounds(const Mat4 &mat) const {
   return b;
 }
 
-bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
-  double tNear = -std::numeric_limits<double>::infinity();
-  double tFar = std::numeric_limits<double>::infinity();
-  int nearPart = -1, farPart = -1;
+namespace {
+
+/// The line of `ray` inside the three slabs: [tNear, tFar] entering through
+/// face nearPart and leaving through farPart; false when it misses them.
+bool slabInterval(const Ray &ray, double &tNear, double &tFar, int &nearPart, int &farPart) {
+  tNear = -std::numeric_limits<double>::infinity();
+  tFar = std::numeric_limits<double>::infinity();
+  nearPart = farPart = -1;
   for (int axis = 0; axis < 3; ++axis) {
     double o = ray.o[axis], d = ray.d[axis];
     if (d == 0) {
@@ -49,7 +53,15 @@ bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
       farPart = hiPart;
     }
   }
-  if (tNear > tFar || nearPart < 0) return false;
+  return !(tNear > tFar) && nearPart >= 0;
+}
+
+} // namespace
+
+bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
+  double tNear, tFar;
+  int nearPart, farPart;
+  if (!slabInterval(ray, tNear, tFar, nearPart, farPart)) return false;
   if (inOpenRange(ray, tNear)) {
     hit.t = tNear;
     hit.part = nearPart;
@@ -61,6 +73,15 @@ bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
     return true;
   }
   return false;
+}
+
+int Cube::spans(const Ray &ray, Span *out) const {
+  double tNear, tFar;
+  int nearPart, farPart;
+  // A line along an edge or face (tNear = tFar) does not enter.
+  if (!slabInterval(ray, tNear, tFar, nearPart, farPart) || !(tNear < tFar)) return 0;
+  out[0] = {tNear, tFar, nearPart, farPart};
+  return 1;
 }
 
 ObjectSurface Cube::surface(const Ray &ray, const ObjectHit &hit) const {

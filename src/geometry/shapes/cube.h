@@ -16,6 +16,9 @@ struct Cube {
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;
   double originShift(const Ray &ray) const { return closestApproachShift(ray, {}, kFarOrigin); }
   bool intersect(const Ray &ray, ObjectHit &hit) const;
+  /// Where the whole line of `ray` is inside the solid (CSG); at most
+  /// kMaxSpans, in order.
+  int spans(const Ray &ray, Span *out) const;
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };

@@ -5,6 +5,7 @@
 #include "geometry/shapes/disc_bounds.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace lray {
 
@@ -69,6 +70,48 @@ bool Cylinder::intersect(const Ray &ray, ObjectHit &hit) const {
     }
   }
   return found;
+}
+
+int Cylinder::spans(const Ray &ray, Span *out) const {
+  const Vec3 &o = ray.o, &d = ray.d;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // Inside the infinite cylinder x^2 + z^2 <= 1 ...
+  double lo = -inf, hi = inf;
+  int loPart = -1, hiPart = -1;
+  double a = d.x * d.x + d.z * d.z;
+  if (a > 0) {
+    double h = o.x * d.x + o.z * d.z;
+    double vx = o.x - d.x * (h / a), vz = o.z - d.z * (h / a);
+    double disc = a * (1 - (vx * vx + vz * vz));
+    if (!(disc > 0)) return 0;
+    double c = o.x * o.x + o.z * o.z - 1;
+    quadraticRoots(a, h, c, disc, lo, hi);
+    loPart = hiPart = 0;
+  } else if (!(o.x * o.x + o.z * o.z < 1)) {
+    return 0;
+  }
+  // ... and in the slab 0 <= y <= 1 between the caps (intersectCap's t).
+  if (d.y != 0) {
+    double t0 = (0.0 - o.y) / d.y, t1 = (1.0 - o.y) / d.y;
+    int p0 = 1, p1 = 2;
+    if (t0 > t1) {
+      std::swap(t0, t1);
+      std::swap(p0, p1);
+    }
+    if (t0 > lo) {
+      lo = t0;
+      loPart = p0;
+    }
+    if (t1 < hi) {
+      hi = t1;
+      hiPart = p1;
+    }
+  } else if (!(o.y > 0 && o.y < 1)) {
+    return 0;
+  }
+  if (!(lo < hi)) return 0;
+  out[0] = {lo, hi, loPart, hiPart};
+  return 1;
 }
 
 ObjectSurface Cylinder::surface(const Ray &ray, const ObjectHit &hit) const {

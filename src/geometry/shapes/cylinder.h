@@ -21,6 +21,10 @@ struct Cylinder {
     return closestApproachShift(ray, {0, 0.5, 0}, kFarOrigin);
   }
   bool intersect(const Ray &ray, ObjectHit &hit) const;
+  /// Where the whole line of `ray` is inside the solid (CSG); at most
+  /// kMaxSpans, in order. Caps included even when `open`: CSG refuses open
+  /// ones.
+  int spans(const Ray &ray, Span *out) const;
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "geometry/error_bound.h"
+#include "geometry/shapes/span.h"
 #include "math/constants.h"
 #include "math/ray.h"
 #include "math/vec3.h"

@@ -19,6 +19,18 @@ bool Plane::intersect(const Ray &ray, ObjectHit &hit) const {
   return true;
 }
 
+int Plane::spans(const Ray &ray, Span *out) const {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  if (ray.d.y == 0) {
+    if (!(ray.o.y < 0)) return 0;
+    out[0] = {-inf, inf, -1, -1}; // a line below the plane, parallel to it
+    return 1;
+  }
+  double t = -ray.o.y / ray.d.y;
+  out[0] = ray.d.y > 0 ? Span{-inf, t, -1, 0} : Span{t, inf, 0, -1};
+  return 1;
+}
+
 ObjectSurface Plane::surface(const Ray &ray, const ObjectHit &hit) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);

@@ -20,6 +20,9 @@ struct Plane {
   /// No re-origin: t = -o.y / d.y does not cancel for a distant origin.
   double originShift(const Ray &) const { return 0; }
   bool intersect(const Ray &ray, ObjectHit &hit) const;
+  /// Where the whole line of `ray` is inside the solid (CSG); at most
+  /// kMaxSpans, in order.
+  int spans(const Ray &ray, Span *out) const;
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "geometry/shapes/cone.h"
+#include "geometry/shapes/csg.h"
 #include "geometry/shapes/cube.h"
 #include "geometry/shapes/cylinder.h"
 #include "geometry/shapes/mesh.h"
@@ -23,18 +24,18 @@
 namespace lray {
 
 /// An entity's shape and its parameters.
-using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus>;
+using Shape = std::variant<Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus, Csg>;
 
 /// Which alternative of Shape (its index), for code that only needs the kind.
-enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus };
+enum class ShapeKind : uint8_t { Sphere, Cylinder, Cone, Cube, Mesh, Plane, Torus, Csg };
 
 template <ShapeKind K, class S>
 constexpr bool kKindIs = std::is_same_v<std::variant_alternative_t<size_t(K), Shape>, S>;
 static_assert(kKindIs<ShapeKind::Sphere, Sphere> && kKindIs<ShapeKind::Cylinder, Cylinder> &&
                   kKindIs<ShapeKind::Cone, Cone> && kKindIs<ShapeKind::Cube, Cube> &&
                   kKindIs<ShapeKind::Mesh, Mesh> && kKindIs<ShapeKind::Plane, Plane> &&
-                  kKindIs<ShapeKind::Torus, Torus> &&
-                  std::variant_size_v<Shape> == size_t(ShapeKind::Torus) + 1,
+                  kKindIs<ShapeKind::Torus, Torus> && kKindIs<ShapeKind::Csg, Csg> &&
+                  std::variant_size_v<Shape> == size_t(ShapeKind::Csg) + 1,
               "ShapeKind lists the alternatives of Shape in order");
 
 /// The shape of kind `kind` with its default parameters.
@@ -54,5 +55,10 @@ const char *shapeName(const Shape &shape);
 /// True for the shapes the backends' trees hold (all but Mesh, whose
 /// triangles the backends intersect themselves).
 template <class S> constexpr bool kAnalyticShape = !std::is_same_v<S, Mesh>;
+
+/// True for the shapes with their own object-space ray test (shapes/*.h):
+/// the analytic ones but CSG, whose leaves are such shapes.
+template <class S>
+constexpr bool kPrimitiveShape = kAnalyticShape<S> && !std::is_same_v<S, Csg>;
 
 } // namespace lray

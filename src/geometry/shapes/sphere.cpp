@@ -14,7 +14,11 @@ Bounds3 Sphere::worldBounds(const Mat4 &mat) const {
   return {c - e, c + e};
 }
 
-bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
+namespace {
+
+/// The roots t0 <= t1 of the ray's line with the unit sphere; false when the
+/// line misses it.
+bool sphereRoots(const Ray &ray, double &t0, double &t1) {
   const Vec3 &o = ray.o, &d = ray.d;
   double a = dot(d, d);
   if (!(a > 0)) return false;
@@ -26,8 +30,15 @@ bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
   double disc = a * (1 - dot(v, v));
   if (disc < 0) return false;
   double c = dot(o, o) - 1;
-  double t0, t1;
   quadraticRoots(a, h, c, disc, t0, t1);
+  return true;
+}
+
+} // namespace
+
+bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
+  double t0, t1;
+  if (!sphereRoots(ray, t0, t1)) return false;
   if (inOpenRange(ray, t0)) {
     hit.t = t0;
   } else if (inOpenRange(ray, t1)) {
@@ -37,6 +48,14 @@ bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
   }
   hit.part = 0;
   return true;
+}
+
+int Sphere::spans(const Ray &ray, Span *out) const {
+  double t0, t1;
+  // A tangent line (t0 = t1) touches without entering.
+  if (!sphereRoots(ray, t0, t1) || !(t0 < t1)) return 0;
+  out[0] = {t0, t1, 0, 0};
+  return 1;
 }
 
 ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit) const {

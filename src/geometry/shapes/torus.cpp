@@ -121,10 +121,20 @@ Bounds3 Torus::worldBounds(const Mat4 &mat) const {
   return {c - e, c + e};
 }
 
-bool Torus::intersect(const Ray &ray, ObjectHit &hit) const {
-  const double R = major, r = minor;
+namespace {
+
+/// The pieces of the ray (from ray.tMin on) inside the torus's box between
+/// the quartic's critical points: h has at most one zero in each. False
+/// when the ray misses the box.
+struct TorusPieces {
   double lo, hi;
-  if (!boxInterval(ray, R + r, r, lo, hi)) return false;
+  double breaks[3];
+  int count = 0;
+};
+
+bool torusPieces(const Ray &ray, double R, double r, TorusPieces &p) {
+  if (!boxInterval(ray, R + r, r, p.lo, p.hi)) return false;
+  const double lo = p.lo, hi = p.hi;
   const Vec3 &o = ray.o, &d = ray.d;
   // g(t) = (dd t^2 + 2 od t + k)^2 - 4 R^2 (a t^2 + 2 b t + c).
   double dd = dot(d, d), od = dot(o, d), k = dot(o, o) + (R * R - r * r);
@@ -149,14 +159,24 @@ bool Torus::intersect(const Ray &ray, ObjectHit &hit) const {
         if (x > lo && x < hi) breaks2[n2++] = x;
     }
   }
-  double breaks1[3];
-  int n1 = monotoneRoots(g1, lo, hi, breaks2, n2, breaks1);
+  p.count = monotoneRoots(g1, lo, hi, breaks2, n2, p.breaks);
+  return true;
+}
+
+} // namespace
+
+bool Torus::intersect(const Ray &ray, ObjectHit &hit) const {
+  const double R = major, r = minor;
+  TorusPieces pieces;
+  if (!torusPieces(ray, R, r, pieces)) return false;
+  const int n1 = pieces.count;
+  const double *breaks1 = pieces.breaks;
   // Each piece of [lo, hi] between critical points holds at most one zero
   // of h: the first sign change of h, in order along the ray, is the hit.
   auto h = [&](double t) { return distanceFunction(ray.at(t), R, r); };
-  double a0 = lo, h0 = h(lo);
+  double a0 = pieces.lo, h0 = h(pieces.lo);
   for (int i = 0; i <= n1 && a0 < ray.tMax; ++i) {
-    double b1 = i < n1 ? breaks1[i] : hi;
+    double b1 = i < n1 ? breaks1[i] : pieces.hi;
     if (!(b1 > a0) && i < n1) continue;
     double h1 = h(b1);
     if ((h0 < 0) != (h1 < 0) || (h1 == 0 && h0 != 0)) {
@@ -171,6 +191,48 @@ bool Torus::intersect(const Ray &ray, ObjectHit &hit) const {
     h0 = h1;
   }
   return false;
+}
+
+int Torus::spans(const Ray &ray, Span *out) const {
+  const double R = major, r = minor;
+  Ray line = ray;
+  line.tMin = -std::numeric_limits<double>::infinity();
+  TorusPieces pieces;
+  if (!torusPieces(line, R, r, pieces)) return 0;
+  // Inside is h < 0: each sign change of h is a crossing, so entries and
+  // exits alternate by construction (a touch, h = 0 between two positive
+  // values, is none). The box's faces are outside or on the torus.
+  auto h = [&](double t) { return distanceFunction(line.at(t), R, r); };
+  int n = 0;
+  bool inside = false;
+  double a0 = pieces.lo, h0 = h(pieces.lo);
+  if (h0 < 0) { // rounding at the box's face
+    out[0] = {a0, a0, 0, 0};
+    inside = true;
+  }
+  for (int i = 0; i <= pieces.count; ++i) {
+    double b1 = i < pieces.count ? pieces.breaks[i] : pieces.hi;
+    if (!(b1 > a0) && i < pieces.count) continue;
+    double h1 = h(b1);
+    if ((h0 < 0) != (h1 < 0)) {
+      double t = bracketedRoot(h, a0, b1, h0, h1);
+      if (!inside) {
+        if (n == kMaxSpans) break;
+        out[n] = {t, t, 0, 0};
+      } else {
+        out[n++].t1 = t;
+      }
+      inside = !inside;
+    }
+    a0 = b1;
+    h0 = h1;
+  }
+  if (inside) out[n++].t1 = pieces.hi; // rounding at the box's face
+  // Rounding can make an exit equal its entry: no stretch.
+  int kept = 0;
+  for (int i = 0; i < n; ++i)
+    if (out[i].t0 < out[i].t1) out[kept++] = out[i];
+  return kept;
 }
 
 ObjectSurface Torus::surface(const Ray &ray, const ObjectHit &hit) const {

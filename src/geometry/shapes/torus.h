@@ -24,6 +24,9 @@ struct Torus {
     return closestApproachShift(ray, {}, kFarOrigin * (major + minor));
   }
   bool intersect(const Ray &ray, ObjectHit &hit) const;
+  /// Where the whole line of `ray` is inside the solid (CSG); at most
+  /// kMaxSpans, in order.
+  int spans(const Ray &ray, Span *out) const;
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };

@@ -6,4 +6,5 @@ list(APPEND LRAY_TEST_SOURCES
   tests/stress/grazing_rays_test.cpp
   tests/stress/non_finite_input_test.cpp
   tests/stress/backend_parity_test.cpp
-  tests/stress/fuzz_regression_test.cpp)
+  tests/stress/fuzz_regression_test.cpp
+  tests/stress/csg_stress_test.cpp)

@@ -8,6 +8,7 @@
 // buildFrame. A SceneError is fine; a crash, a sanitizer report, another
 // exception or a scene holding a non-finite number is a bug.
 #include "bindings/scene_script.h"
+#include "geometry/csg_tree.h"
 
 #include <fuzzer/FuzzedDataProvider.h>
 
@@ -23,7 +24,10 @@ const char *const kConstructors[] = {
     "Cylinder", "Cone", "Mesh", "Light", "Texture", "Finish", "ColorPigment", "CheckerPigment2D",
     "CheckerPigment3D", "MarblePigment3D", "WoodPigment3D", "ImagePigment2D", "TextureMap2D",
     "UVMap", "SphericalMap", "CylindricalMap", "TextureMap3D", "LinearMap", "Perspective", "Scene",
-    "SceneInfo", "Floor", "grey", "mesh_from_obj", "tostring", "type", "getmetatable"};
+    "SceneInfo", "Floor", "grey", "mesh_from_obj", "tostring", "type", "getmetatable", "Union",
+    "Merge", "Intersection", "Difference"};
+
+const char *const kCsgClasses[] = {"Union", "Merge", "Intersection", "Difference"};
 
 const char *const kAttributes[] = {
     "x", "y", "z", "r", "g", "b", "color", "transform", "texture", "finish", "pigment", "rows",
@@ -32,7 +36,7 @@ const char *const kAttributes[] = {
     "image_width", "image_height", "frames", "samples", "start_clock", "end_clock", "camera",
     "background_color", "fov", "aspect", "pigment1", "pigment2", "texture_map", "color1", "color2",
     "frequency", "period", "power", "size", "scale_s", "scale_t", "translate_s", "translate_t",
-    "colour", "__index", "__gc", "add_entity"};
+    "colour", "__index", "__gc", "add_entity", "children", "major", "minor"};
 
 const char *const kMethods[] = {"dot", "cross", "length", "normalized", "inverse", "copy",
                                 "add_entity", "add_entities", "add_light", "add_lights"};
@@ -57,7 +61,7 @@ public:
 
   std::string expr(int depth) {
     if (depth > 3 || in_.remaining_bytes() == 0) return leaf();
-    switch (in_.ConsumeIntegralInRange(0, 9)) {
+    switch (in_.ConsumeIntegralInRange(0, 10)) {
     case 0:
     case 1:
     case 2: { // constructor call with 0..4 arguments
@@ -86,6 +90,13 @@ public:
       return s + " }";
     }
     case 8: return "{" + expr(depth + 1) + ", " + expr(depth + 1) + "}";
+    case 9: { // CSG: Op { solid, ..., attr = value }
+      std::string s = std::string(pick(kCsgClasses)) + " {";
+      int n = in_.ConsumeIntegralInRange(0, 3);
+      for (int i = 0; i < n; ++i) s += std::string(i ? ", " : " ") + expr(depth + 1);
+      if (in_.ConsumeBool()) s += std::string(n ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
+      return s + " }";
+    }
     default: return leaf();
     }
   }
@@ -141,6 +152,14 @@ void checkScene(const lray::Scene &s) {
   check(finite(s.camera.worldFromCamera) && std::isfinite(s.camera.fov) && std::isfinite(s.camera.aspect));
   for (const lray::Entity &e : s.entities) {
     check(finite(e.worldFromObject));
+    if (const auto *csg = std::get_if<lray::Csg>(&e.shape)) {
+      check(csg->tree != nullptr && !csg->tree->leaves.empty());
+      for (const lray::CsgTree::Leaf &leaf : csg->tree->leaves) {
+        check(finite(leaf.entity.worldFromObject) && leaf.entity.texture < s.textures.size());
+        check(leaf.entity.kind() != lray::ShapeKind::Csg && !leaf.entity.isMesh());
+      }
+      for (const lray::CsgTree::Node &node : csg->tree->nodes) check(node.children > 0);
+    }
     if (e.kind() == lray::ShapeKind::Mesh) {
       check(e.mesh != nullptr);
       for (const lray::Vec3f &p : e.mesh->positions)

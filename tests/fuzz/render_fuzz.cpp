@@ -2,9 +2,12 @@
 // describe a small scene (analytic shapes and meshes, including degenerate
 // triangles, under transforms from 1e-4 to 1e4 in scale and up to 1e5 in
 // offset, random finishes, point and area lights, a camera anywhere) that
-// is rendered at 4x4 with both backends. A crash, a sanitizer report or a
-// non-finite sample (RayCounts::nonFinite > 0) is a bug.
+// is rendered at 4x4 with both backends. CSG entities get random nested
+// trees (every operator, every solid, planes, coincident placements, open
+// cylinders the converter would refuse) with textures per solid. A crash, a
+// sanitizer report or a non-finite sample (RayCounts::nonFinite > 0) is a bug.
 #include "accel/accelerator.h"
+#include "geometry/csg_tree.h"
 #include "render/renderer.h"
 #include "scene/mesh_builder.h"
 #include "shading/image_cache.h"
@@ -75,6 +78,56 @@ lray::MeshDataPtr mesh(FuzzedDataProvider &in) {
   return lray::buildMeshData(src);
 }
 
+/// A random solid (any analytic shape but CSG) placed by a random transform.
+lray::Entity solid(FuzzedDataProvider &in, uint32_t textures) {
+  static const lray::ShapeKind kSolids[] = {lray::ShapeKind::Sphere, lray::ShapeKind::Cylinder,
+                                            lray::ShapeKind::Cone,   lray::ShapeKind::Cube,
+                                            lray::ShapeKind::Plane,  lray::ShapeKind::Torus};
+  lray::Entity e;
+  e.shape = lray::makeShape(kSolids[in.ConsumeIntegralInRange<size_t>(0, 5)]);
+  // Often the identity or a small step: solids sharing faces and centres.
+  e.worldFromObject = in.ConsumeBool() ? Transform() : transform(in);
+  bool open = in.ConsumeIntegralInRange(0, 7) == 0;
+  if (auto *c = std::get_if<lray::Cylinder>(&e.shape)) c->open = open;
+  if (auto *c = std::get_if<lray::Cone>(&e.shape)) c->open = open;
+  if (auto *t = std::get_if<lray::Torus>(&e.shape)) {
+    t->major = in.ConsumeFloatingPointInRange(0.01, 4.0);
+    t->minor = in.ConsumeFloatingPointInRange(0.01, 4.0);
+  }
+  e.texture = in.ConsumeIntegralInRange<uint32_t>(0, textures);
+  return e;
+}
+
+void csgChildren(FuzzedDataProvider &in, lray::CsgTree &tree, uint32_t node, const Transform &world,
+                 int depth, uint32_t textures) {
+  int n = in.ConsumeIntegralInRange(1, 4);
+  // At least one child each (as the bindings require); about 24 solids at most.
+  for (int i = 0; i < n && (i == 0 || tree.leaves.size() < 24); ++i) {
+    if (depth < 3 && in.ConsumeIntegralInRange(0, 3) == 0) {
+      uint32_t sub = tree.addNode(static_cast<lray::CsgOp>(in.ConsumeIntegralInRange(0, 3)), node);
+      Transform t = world * transform(in);
+      csgChildren(in, tree, sub, t.singular() ? world : t, depth + 1, textures);
+      continue;
+    }
+    lray::Entity e = solid(in, textures);
+    Transform t = world * e.worldFromObject;
+    if (!t.singular()) e.worldFromObject = t;
+    uint32_t leaf = tree.addLeaf(std::move(e), node);
+    if (in.ConsumeBool()) {
+      tree.leaves[leaf].inheritsTexture = true;
+      tree.leaves[leaf].textureSpace = world;
+    }
+  }
+}
+
+lray::Shape csg(FuzzedDataProvider &in, uint32_t textures) {
+  auto tree = std::make_shared<lray::CsgTree>();
+  tree->addNode(static_cast<lray::CsgOp>(in.ConsumeIntegralInRange(0, 3)), lray::CsgTree::kNoParent);
+  csgChildren(in, *tree, 0, transform(in), 0, textures);
+  tree->finish();
+  return lray::Csg{std::move(tree)};
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -108,6 +161,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     }
     e.smooth = in.ConsumeBool();
     e.texture = in.ConsumeIntegralInRange<uint32_t>(0, static_cast<uint32_t>(textures));
+    if (e.kind() == lray::ShapeKind::Csg) e.shape = csg(in, static_cast<uint32_t>(textures));
     if (e.kind() == lray::ShapeKind::Mesh) {
       try {
         e.mesh = mesh(in);

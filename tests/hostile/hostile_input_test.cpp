@@ -236,6 +236,23 @@ TEST_F(Hostile, DeeplyNestedPigmentsAreAnErrorNotACrash) {
   expectRefused({s, out()}, 1, "nest.lua:", 20);
 }
 
+TEST_F(Hostile, DeeplyNestedCsgIsAnErrorNotACrash) {
+  for (const char *op : {"Union", "Difference"}) {
+    const std::string s = write(
+        "csg.lua", std::string("local u = Sphere()\nfor i = 1, 100000 do\n  u = ") + op +
+                       " { u, Cube() }\nend\n"
+                       "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+    expectRefused({s, out()}, 1, "csg.lua:3: " + std::string(op) + ": CSG nodes are nested more than 64 deep", 20);
+  }
+}
+
+TEST_F(Hostile, AHugeCsgTreeIsRefusedNamingTheLine) {
+  const std::string s = write(
+      "big.lua", "local list = {}\nfor i = 1, 200000 do list[i] = Sphere() end\n"
+                 "function scene()\n  local s = Scene()\n  s:add_entity(Merge(list))\n  return s\nend\n");
+  expectRefused({s, out()}, 1, "big.lua:5: Merge: ", 20);
+}
+
 TEST_F(Hostile, AnAbsurdAreaLightIsRefusedNamingTheKnob) {
   const std::string s = write(
       "light.lua", "function scene()\n  local s = Scene()\n"

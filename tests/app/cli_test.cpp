@@ -156,6 +156,36 @@ TEST_F(LrayCli, SameBytesWhateverTheThreadCountOnBothBackends) {
   EXPECT_NE(readFile(dir_ / "b" / "blank.png"), readFile(dir_ / "embree1" / "det0001.png"));
 }
 
+TEST_F(LrayCli, CsgWithCoincidentFacesIsTheSameBytesOnBothBackendsAndAnyThreadCount) {
+  // A red cube minus a green box sharing its front face, turned: the carved
+  // (green) wall shows, never speckles of the shared red face.
+  fs::path scene = writeScene(
+      "csg.lua",
+      "scene_info = SceneInfo() { image_width = 40, image_height = 30 }\n"
+      "function scene()\n"
+      "  local s = Scene() { camera = Perspective(40, 4 / 3) { transform = LookAt(Vector(0.7, 0.9, -3), origin, y) } }\n"
+      "  s:add_entity(Difference {\n"
+      "    Cube() { texture = Texture() { pigment = ColorPigment(red) } },\n"
+      "    Cube(Translate(Vector(0, 0, -0.3)) * Scale(0.6, 0.6, 0.4)) { texture = Texture() { pigment = ColorPigment(green) } },\n"
+      "    transform = Rotate(Vector(1, 2, 3), 17) * Scale(1.3),\n"
+      "  })\n"
+      "  s:add_light(Light() { transform = Translate(Vector(-2, 3, -4)) })\n"
+      "  return s\nend\n");
+  std::string first;
+  for (const char *backend : {"embree", "kdtree"}) {
+    for (int threads : {1, 2, 8}) {
+      fs::path out = dir_ / ("c" + std::string(backend) + std::to_string(threads));
+      Result r = runLray(scene.string() + " " + out.string() + " --quiet --backend " + backend +
+                         " --threads " + std::to_string(threads));
+      ASSERT_EQ(r.status, 0) << r.output;
+      std::string bytes = readFile(out / "csg.png");
+      ASSERT_FALSE(bytes.empty());
+      if (first.empty()) first = bytes;
+      EXPECT_EQ(bytes, first) << backend << " with " << threads << " threads";
+    }
+  }
+}
+
 TEST_F(LrayCli, StatsJsonCountsRays) {
   fs::path scene = writeScene("st.lua", kSpheres);
   fs::path stats = dir_ / "stats.json";

@@ -6,6 +6,7 @@
 #include "bindings/scene_script.h"
 #include "scene/scene_checks.h"
 #include "app/frame_pipeline.h"
+#include "render/tile_file.h"
 #include "shading/image_cache.h"
 
 #include <fmt/format.h>
@@ -102,24 +103,53 @@ int run(const Options &opt) {
   stats.samples = info.samples;
   stats.sampling = sampling;
 
+  // --tile and --crop: one window of each frame, written as a tile.
+  FrameSettings frameSampling = sampling;
+  if (opt.tile) {
+    frameSampling.crop = tileBand(opt.tile->first, opt.tile->second, info.imageWidth, info.imageHeight);
+  } else if (opt.crop) {
+    const PixelWindow &c = *opt.crop;
+    if (c.x1 > info.imageWidth || c.y1 > info.imageHeight)
+      throw SceneError(fmt::format("--crop {}:{}:{}:{}: the window reaches outside the {} x {} frame",
+                                   c.x0, c.y0, c.x1, c.y1, info.imageWidth, info.imageHeight));
+    frameSampling.crop = c;
+  }
+  const bool tiled = !frameSampling.crop.empty();
+  const PixelWindow &window = frameSampling.crop;
+
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
-  for (int frame = first; frame <= last; ++frame) {
+  bool warned = false;
+  for (int frame = first; frame <= last; frame += opt.frameStep) {
     FrameStats frameStats;
-    std::string path =
-        (fs::path(opt.outDir) / frameFileName(stem, frame, info.frames, opt.format)).string();
+    const std::string finalName = frameFileName(stem, frame, info.frames, opt.format);
+    const std::string fileName = !tiled      ? finalName
+                                 : opt.tile ? tileFileName(finalName, opt.tile->first, opt.tile->second)
+                                            : cropFileName(finalName, window);
+    const std::string path = (fs::path(opt.outDir) / fileName).string();
     frameStats.file = path;
+    if (opt.skipExisting &&
+        completeImage(path, tiled ? ImageFormat::Exr : opt.format,
+                      tiled ? window.x1 - window.x0 : info.imageWidth,
+                      tiled ? window.y1 - window.y0 : info.imageHeight)) {
+      if (!opt.quiet) std::printf("%s exists: skipped\n", path.c_str());
+      continue;
+    }
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
     Film film = renderScriptFrame(
         script, info, frame, stats.backend, images, frameStats,
-        [&bar](size_t done, size_t total) { bar.update(done, total); }, sampling);
+        [&bar](size_t done, size_t total) { bar.update(done, total); }, frameSampling);
     bar.finish(frameStats.renderSeconds);
-    if (frame == first)
+    if (!warned)
       for (const std::string &warning : frameStats.warnings)
         std::fprintf(stderr, "lray: warning: %s\n", warning.c_str());
+    warned = true;
 
     t0 = std::chrono::steady_clock::now();
-    writeImage(film, path, opt.format, opt.linear);
+    if (tiled)
+      writeTile(film, {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window}, path);
+    else
+      writeImage(film, path, opt.format, opt.linear);
     frameStats.writeSeconds = secondsSince(t0);
     if (!opt.quiet && !bar.enabled())
       std::printf("%s (%.2f s)\n", path.c_str(), frameStats.renderSeconds + frameStats.sceneSeconds);

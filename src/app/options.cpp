@@ -69,7 +69,19 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   std::string frames;
   app.add_option("--frames", frames,
                  "Render frames A to B inclusive, numbered from 0 as in the file names "
-                 "(A:B, or A for one frame)");
+                 "(A:B, A:B:STEP for every STEP-th, or A for one frame)");
+  app.add_flag("--skip-existing", o.skipExisting,
+               "Do not render a frame (or tile) whose output file already exists as a "
+               "complete image of the right size: resume an interrupted animation");
+  std::string tile, crop;
+  app.add_option("--tile", tile,
+                 "Render only band I (0-based) of N bands of rows of each frame, written as "
+                 "<frame>.tile-I-of-N.exr; lray-merge stitches the bands into the frame")
+      ->type_name("I/N");
+  app.add_option("--crop", crop,
+                 "Render only the pixels x0 <= x < x1, y0 <= y < y1 of each frame, written as "
+                 "<frame>.crop-x0-y0-x1-y1.exr (the general form of --tile)")
+      ->type_name("x0:y0:x1:y1");
   app.add_option("-w,--width", o.width, "Image width in pixels (overrides scene_info)")
       ->check(positive);
   app.add_option("-H,--height", o.height, "Image height in pixels (overrides scene_info)")
@@ -221,31 +233,54 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   if (o.aovs && o.format != ImageFormat::Exr)
     return usageError("--aovs needs EXR output (--format exr): PNG and TGA hold only RGB");
 
-  if (!frames.empty()) {
-    auto usage = [&](const std::string &why) {
-      return ParseResult{std::nullopt, 2, "lray: error: --frames '" + frames + "': " + why +
-                                              " (run 'lray --help' for usage)"};
-    };
-    // "A:B" or "A": non-negative integers, 0-based.
-    auto number = [](const std::string &text, int &out) {
-      if (text.empty() || text.size() > 9 ||
-          text.find_first_not_of("0123456789") != std::string::npos)
+  // Non-negative integers separated by `separator`, e.g. "3:9:2" or "1/4".
+  auto numbers = [](const std::string &text, char separator, std::vector<int> &out) {
+    out.clear();
+    size_t start = 0;
+    for (;;) {
+      size_t end = text.find(separator, start);
+      std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+      if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos)
         return false;
-      out = std::stoi(text);
-      return true;
-    };
-    size_t colon = frames.find(':');
-    int a = 0, b = 0;
-    if (!number(frames.substr(0, colon), a) ||
-        (colon != std::string::npos && !number(frames.substr(colon + 1), b)))
-      return usage("expected A:B or A (0-based frame numbers)");
-    if (colon == std::string::npos) b = a;
+      out.push_back(std::stoi(part));
+      if (end == std::string::npos) return true;
+      start = end + 1;
+    }
+  };
+  auto usageOf = [](const char *option, const std::string &value, const std::string &why) {
+    return ParseResult{std::nullopt, 2, std::string("lray: error: ") + option + " '" + value +
+                                            "': " + why + " (run 'lray --help' for usage)"};
+  };
+  std::vector<int> n;
+  if (!frames.empty()) {
+    // "A", "A:B" or "A:B:STEP": non-negative integers, 0-based.
+    if (!numbers(frames, ':', n) || n.size() > 3)
+      return usageOf("--frames", frames, "expected A:B, A:B:STEP or A (0-based frame numbers)");
+    const int a = n[0], b = n.size() > 1 ? n[1] : n[0];
     if (b < a)
-      return usage("the last frame (" + std::to_string(b) + ") comes before the first (" +
-                   std::to_string(a) + ")");
+      return usageOf("--frames", frames,
+                     "the last frame (" + std::to_string(b) + ") comes before the first (" +
+                         std::to_string(a) + ")");
+    if (n.size() == 3 && n[2] == 0) return usageOf("--frames", frames, "the step must be 1 or more");
     o.firstFrame = a;
     o.lastFrame = b;
+    o.frameStep = n.size() == 3 ? n[2] : 1;
   }
+  if (!tile.empty()) {
+    if (!numbers(tile, '/', n) || n.size() != 2)
+      return usageOf("--tile", tile, "expected I/N, tile I (0-based) of N");
+    if (n[1] == 0 || n[0] >= n[1])
+      return usageOf("--tile", tile, "I must be below N (tiles are numbered from 0)");
+    o.tile = std::pair<int, int>(n[0], n[1]);
+  }
+  if (!crop.empty()) {
+    if (!numbers(crop, ':', n) || n.size() != 4)
+      return usageOf("--crop", crop, "expected x0:y0:x1:y1, pixel coordinates");
+    if (n[2] <= n[0] || n[3] <= n[1])
+      return usageOf("--crop", crop, "the window is empty (x1 must be above x0, y1 above y0)");
+    o.crop = PixelWindow{n[0], n[1], n[2], n[3]};
+  }
+  if (o.tile && o.crop) return usageError("--tile and --crop both choose the pixels: give one");
   return {o, 0, ""};
 }
 

@@ -18,7 +18,12 @@ struct Options {
   std::string outDir;
   BackendKind backend = backends().front().kind;
   int threads = 0; ///< 0 = all cores
-  std::optional<int> firstFrame, lastFrame; ///< --frames A:B, inclusive, 0-based
+  std::optional<int> firstFrame, lastFrame; ///< --frames A:B[:STEP], inclusive, 0-based
+  int frameStep = 1;                        ///< --frames A:B:STEP
+  bool skipExisting = false; ///< leave frames (and tiles) whose complete image exists
+  /// --tile I/N: band I (0-based) of N bands of rows; --crop: a pixel window.
+  std::optional<std::pair<int, int>> tile;
+  std::optional<PixelWindow> crop;
   std::optional<int> width, height, samples;
   std::optional<double> noiseThreshold;       ///< adaptive sampling (0: fixed)
   std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel

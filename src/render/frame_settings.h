@@ -24,6 +24,13 @@ struct AdaptiveSettings {
   double timeLimit = 0;      ///< seconds; 0: none
 };
 
+/// A pixel rectangle [x0, x1) x [y0, y1) of a frame.
+struct PixelWindow {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+  bool operator==(const PixelWindow &) const = default;
+};
+
 struct FrameSettings {
   int width = 800;
   int height = 600;
@@ -45,6 +52,12 @@ struct FrameSettings {
   /// Skip shadow rays nothing can block (shading/shadow_shaft.h): the same
   /// image either way; off only to measure or to check that.
   bool shadowSkips = true;
+  /// Render only this window of the frame (--crop, --tile); empty: all of
+  /// it. Its pixels get the same values as in a render of the whole frame:
+  /// the 16 x 16 tiles it touches are sampled whole (the same ray batches),
+  /// and adaptive sampling runs on a margin around it as wide as its
+  /// passes can carry a neighbour's influence.
+  PixelWindow crop;
   /// Set by another thread to stop an adaptive render at the next tile
   /// boundary (its first pass always completes; fixed sampling ignores it).
   const std::atomic<bool> *cancel = nullptr;

@@ -7,10 +7,16 @@
 
 namespace lray {
 
-SampleBuffer::SampleBuffer(int width, int height)
+SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1)
     : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 6, 0.f),
       count_(static_cast<size_t>(width) * height, 0),
-      active_(static_cast<size_t>(width) * height, 1) {}
+      active_(static_cast<size_t>(width) * height, 1),
+      inRegion_(static_cast<size_t>(width) * height, 1) {
+  if (x1 <= x0 || y1 <= y0) return;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (x < x0 || x >= x1 || y < y0 || y >= y1) active_[index(x, y)] = inRegion_[index(x, y)] = 0;
+}
 
 bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
   for (int y = y0; y < y1; ++y)
@@ -29,7 +35,7 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // pixel (the other side of an edge, say) are not starved.
   std::vector<uint8_t> noisy(active_.size(), 0);
   for (size_t i = 0; i < noisy.size(); ++i)
-    noisy[i] = count_[i] < maxSamples && (threshold <= 0 || error(i) >= threshold);
+    noisy[i] = inRegion_[i] && count_[i] < maxSamples && (threshold <= 0 || error(i) >= threshold);
   size_t active = 0;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {
@@ -46,7 +52,7 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
           }
         }
       }
-      active_[i] = on && count_[i] < maxSamples;
+      active_[i] = on && inRegion_[i] && count_[i] < maxSamples;
       active += active_[i];
     }
   }

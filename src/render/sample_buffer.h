@@ -15,7 +15,9 @@ namespace lray {
 
 class SampleBuffer {
 public:
-  SampleBuffer(int width, int height);
+  /// Pixels outside `region` (x0, y0, x1, y1; all of the frame when empty)
+  /// never take part: inactive from the start, and never noisy neighbours.
+  SampleBuffer(int width, int height, int x0 = 0, int y0 = 0, int x1 = 0, int y1 = 0);
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -56,6 +58,7 @@ private:
   std::vector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
   std::vector<uint32_t> count_;
   std::vector<uint8_t> active_;
+  std::vector<uint8_t> inRegion_;
 };
 
 /// The report's sample and error figures (samples, maxPixelSamples,

@@ -73,6 +73,26 @@ template <class Accel> struct TileWork {
   static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
 };
 
+/// The pixels to render: settings.crop within the frame, or all of it.
+inline PixelWindow window(const FrameSettings &settings) {
+  if (settings.crop.empty()) return {0, 0, settings.width, settings.height};
+  return {std::clamp(settings.crop.x0, 0, settings.width), std::clamp(settings.crop.y0, 0, settings.height),
+          std::clamp(settings.crop.x1, 0, settings.width), std::clamp(settings.crop.y1, 0, settings.height)};
+}
+
+inline bool meets(const TileRect &t, const PixelWindow &w) {
+  return t.x0 < w.x1 && w.x0 < t.x1 && t.y0 < w.y1 && w.y0 < t.y1;
+}
+
+/// How many passes adaptive sampling takes at most from min to max samples
+/// (the schedule of renderTiles).
+inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
+  int passes = 1;
+  for (uint32_t target = minSamples; target < maxSamples; ++passes)
+    target = std::min(maxSamples, target + std::max(minSamples, target / 4 * 2));
+  return passes;
+}
+
 } // namespace tile_detail
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
@@ -138,9 +158,10 @@ void renderAovs(const Accel &accel, const Integrator<Accel> &integrator, const S
   constexpr int kGrid = 4;
   film.enableAovs();
   const Transform cameraFromWorld = scene.camera.worldFromCamera.inverse();
-  tbb::parallel_for(tbb::blocked_range<int>(0, settings.height), [&](const auto &rows) {
+  const PixelWindow w = tile_detail::window(settings);
+  tbb::parallel_for(tbb::blocked_range<int>(w.y0, w.y1), [&](const auto &rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
-      for (int x = 0; x < settings.width; ++x) {
+      for (int x = w.x0; x < w.x1; ++x) {
         double depth = 0;
         Vec3 normal;
         Color albedo;
@@ -198,6 +219,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
   const size_t tileCount = static_cast<size_t>(tilesX) * tilesY;
+  const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
   using Tiles = tbb::blocked_range<size_t>;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
@@ -233,6 +255,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       RayCounts &local = perThread.local();
       for (size_t tile = r.begin(); tile != r.end(); ++tile) {
         const TileRect rect(tile, tilesX, settings.width, settings.height);
+        if (!meets(rect, crop)) continue;
         const size_t count = rect.pixels();
         std::fill_n(work.first.begin(), count, 0u);
         sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition, work, local);
@@ -255,9 +278,23 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
 
   // Adaptive: passes of Owen-scrambled Sobol samples; after each pass the
   // pixels below the noise threshold (and not next to a noisy one) stop.
-  SampleBuffer buffer(settings.width, settings.height);
   const uint32_t minSamples = static_cast<uint32_t>(adaptive.minSamples);
   const uint32_t maxSamples = static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
+  // A cropped render samples a margin around the window: a pixel's
+  // neighbours decide whether it takes the next pass, so the missing
+  // pixels beyond the margin change states one pixel further in per pass.
+  // With a margin of the passes plus a tile, no tile holding window pixels
+  // ever sees a changed state: its ray batches, and so its pixels, are
+  // exactly those of the whole frame. The region is whole tiles.
+  PixelWindow region{0, 0, settings.width, settings.height};
+  if (!settings.crop.empty()) {
+    const int margin = adaptivePasses(minSamples, maxSamples) + 1 + kTileSize;
+    auto down = [](int v) { return std::max(0, v / kTileSize * kTileSize); };
+    auto up = [](int v, int limit) { return std::min(limit, (v + kTileSize - 1) / kTileSize * kTileSize); };
+    region = {down(crop.x0 - margin), down(crop.y0 - margin), up(crop.x1 + margin, settings.width),
+              up(crop.y1 + margin, settings.height)};
+  }
+  SampleBuffer buffer(settings.width, settings.height, region.x0, region.y0, region.x1, region.y1);
   const auto start = std::chrono::steady_clock::now();
   const bool timed = adaptive.timeLimit > 0;
   const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(

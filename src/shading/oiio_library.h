@@ -28,6 +28,17 @@ inline SceneError textureTooLarge(const SourceLocation &loc, const std::string &
                              std::to_string(kMaxTextureTexels));
 }
 
+/// A float image that is a window of a larger frame (an EXR's data window
+/// inside its display window), with string attributes: a tile of a frame
+/// rendered with --tile or --crop (render/tile_file.h).
+struct FloatWindow {
+  int fullWidth = 0, fullHeight = 0;          ///< the frame (display window)
+  int x0 = 0, y0 = 0, width = 0, height = 0;  ///< the pixels held (data window)
+  std::vector<std::string> channels;
+  std::vector<float> pixels; ///< width * height * channels.size(), interleaved, row y0 first
+  std::vector<std::pair<std::string, std::string>> attributes;
+};
+
 /// The module's entry points (C++ types: it is built with the same
 /// compiler and flags, and loaded into the same process).
 struct OiioLibrary {
@@ -40,6 +51,11 @@ struct OiioLibrary {
   /// its extension; "" on success, else the reason.
   std::string (*writeFloat)(const std::string &path, int width, int height,
                             const std::vector<std::string> &channels, const float *pixels);
+  /// Writes `image` as an EXR with its windows and attributes; "" or why not.
+  std::string (*writeFloatWindow)(const std::string &path, const FloatWindow &image);
+  /// Reads an image written by writeFloatWindow (any float image); "" or
+  /// why not. Refuses a header claiming more than kMaxTextureTexels pixels.
+  std::string (*readFloatWindow)(const std::string &path, FloatWindow &image);
 };
 
 /// The module, loaded once (thread-safe); throws std::runtime_error naming

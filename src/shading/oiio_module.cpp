@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -67,8 +68,62 @@ std::string writeFloat(const std::string &path, int width, int height,
   if (!out) return OIIO::geterror();
   OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = channels;
+  // No time stamp (OpenImageIO would write the current time as capDate):
+  // the same film gives the same bytes, so a frame stitched from a farm's
+  // tiles is byte-identical to one rendered whole.
+  spec.attribute("DateTime", "");
   if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close())
     return out->geterror();
+  return {};
+}
+
+std::string writeFloatWindow(const std::string &path, const FloatWindow &image) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) return OIIO::geterror();
+  OIIO::ImageSpec spec(image.width, image.height, static_cast<int>(image.channels.size()),
+                       OIIO::TypeDesc::FLOAT);
+  spec.x = image.x0;
+  spec.y = image.y0;
+  spec.full_x = 0;
+  spec.full_y = 0;
+  spec.full_width = image.fullWidth;
+  spec.full_height = image.fullHeight;
+  spec.channelnames = image.channels;
+  spec.attribute("DateTime", ""); // as writeFloat
+  for (const auto &[name, value] : image.attributes) spec.attribute(name, value);
+  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
+      !out->close())
+    return out->geterror();
+  return {};
+}
+
+std::string readFloatWindow(const std::string &path, FloatWindow &image) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    std::string why = OIIO::geterror();
+    return why.empty() ? std::string("cannot open it") : why;
+  }
+  const OIIO::ImageSpec &spec = in->spec();
+  const size_t pixels = static_cast<size_t>(std::max(spec.width, 0)) * std::max(spec.height, 0);
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return "it is empty";
+  if (pixels > kMaxTextureTexels || spec.nchannels > 64) return "its header claims an absurd size";
+  image.fullWidth = spec.full_width;
+  image.fullHeight = spec.full_height;
+  image.x0 = spec.x;
+  image.y0 = spec.y;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.channelnames;
+  image.attributes.clear();
+  for (const OIIO::ParamValue &p : spec.extra_attribs)
+    if (p.type() == OIIO::TypeDesc::STRING)
+      image.attributes.emplace_back(p.name().string(), p.get_string());
+  image.pixels.resize(pixels * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+    std::string why = in->geterror();
+    return why.empty() ? std::string("cannot decode it") : why;
+  }
+  in->close();
   return {};
 }
 
@@ -77,6 +132,7 @@ std::string writeFloat(const std::string &path, int width, int height,
 } // namespace lray
 
 extern "C" const lray::OiioLibrary *lray_oiio_library() {
-  static const lray::OiioLibrary library{&lray::readImage, &lray::writeFloat};
+  static const lray::OiioLibrary library{&lray::readImage, &lray::writeFloat,
+                                         &lray::writeFloatWindow, &lray::readFloatWindow};
   return &library;
 }

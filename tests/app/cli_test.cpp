@@ -1,5 +1,7 @@
 // End-to-end tests of the lray binary (SPEC 1): exit codes, messages, file
 // names, frame ranges, --stats, and byte-identical output across thread counts.
+#include "cli_fixture.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -15,50 +17,8 @@
 namespace lray {
 namespace {
 
+using namespace cli_test;
 namespace fs = std::filesystem;
-
-struct Result {
-  int status = -1;
-  std::string output; // stdout + stderr
-};
-
-Result runLray(const std::string &args) {
-  std::string cmd = std::string(LRAY_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE *pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
-
-std::string readFile(const fs::path &p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-class LrayCli : public ::testing::Test {
-protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("lray_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path writeScene(const std::string &name, const std::string &text) {
-    fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
-
-  fs::path dir_;
-};
 
 // A small lit scene with shadows and area-light jitter, so thread-count
 // independence covers the random streams too.

@@ -160,6 +160,9 @@ public:
   /// The folders a sandboxed script may read below (canonical): the scene's
   /// folder and those of --allow-read. Empty: anywhere (--unsafe).
   std::vector<std::filesystem::path> readRoots;
+  /// Every path resolveReadPath gave out (scripts, OBJ files, images,
+  /// io.open), in order, once each: what `lray --watch` watches.
+  mutable std::vector<std::string> filesRead;
 
   /// The state's allocator (set by ScriptState): its limit and the pool of
   /// memory held outside the Lua heap (external_memory.h).

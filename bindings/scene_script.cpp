@@ -85,6 +85,8 @@ const SceneInfo &SceneScript::info() const { return impl_->info; }
 
 const std::vector<std::string> &SceneScript::warnings() const { return impl_->warnings; }
 
+std::vector<std::string> SceneScript::filesRead() const { return impl_->state.context().filesRead; }
+
 Scene SceneScript::buildFrame(double clock) {
   lua::ScriptState &state = impl_->state;
   lua_State *L = state.state();

@@ -57,6 +57,12 @@ public:
   /// Warnings from the last buildFrame (e.g. camera aspect vs image aspect).
   const std::vector<std::string> &warnings() const;
 
+  /// The files the script has read so far through the sandbox (dofile,
+  /// loadfile, require, io.open, mesh_from_obj, ImagePigment2D), absolute,
+  /// once each; not the scene file itself. With --unsafe, io.open is not
+  /// seen.
+  std::vector<std::string> filesRead() const;
+
   struct Impl;
 
 private:

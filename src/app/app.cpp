@@ -6,6 +6,7 @@
 #include "bindings/scene_script.h"
 #include "scene/scene_checks.h"
 #include "app/frame_pipeline.h"
+#include "app/watch/watch_loop.h"
 #include "render/tile_file.h"
 #include "shading/image_cache.h"
 
@@ -60,11 +61,32 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
   }
 }
 
+/// --info: what a render farm needs to split the work.
+int printInfo(const Options &opt) {
+  ScriptOptions scriptOptions;
+  scriptOptions.unsafe = opt.unsafe;
+  scriptOptions.timeoutSeconds = opt.scriptTimeout;
+  scriptOptions.memoryLimitBytes = opt.scriptMemory;
+  scriptOptions.allowRead = opt.allowRead;
+  scriptOptions.maxFileBytes = opt.maxFileBytes;
+  scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
+  SceneScript script(opt.scenePath, scriptOptions);
+  const SceneInfo info = effectiveSceneInfo(script.info(), opt);
+  const FrameSettings s = samplingSettings(info, opt);
+  std::printf("{\"frames\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,\"adaptive\":%s,"
+              "\"tile_rows\":%d,\"start_clock\":%.17g,\"end_clock\":%.17g}\n",
+              info.frames, info.imageWidth, info.imageHeight, info.samples,
+              s.adaptive ? "true" : "false", (info.imageHeight + kTileSize - 1) / kTileSize,
+              info.startClock, info.endClock);
+  return 0;
+}
+
 int run(const Options &opt) {
   auto start = std::chrono::steady_clock::now();
   RunStats stats;
   if (!fs::is_regular_file(opt.scenePath))
     throw SceneError("scene file '" + opt.scenePath + "' does not exist or is not a file");
+  if (opt.info) return printInfo(opt);
   // Fail on an unusable output before spending time on the script.
   prepareOutDir(opt.outDir);
   if (!opt.statsPath.empty()) {
@@ -128,12 +150,20 @@ int run(const Options &opt) {
                                             : cropFileName(finalName, window);
     const std::string path = (fs::path(opt.outDir) / fileName).string();
     frameStats.file = path;
-    if (opt.skipExisting &&
-        completeImage(path, tiled ? ImageFormat::Exr : opt.format,
-                      tiled ? window.x1 - window.x0 : info.imageWidth,
-                      tiled ? window.y1 - window.y0 : info.imageHeight)) {
-      if (!opt.quiet) std::printf("%s exists: skipped\n", path.c_str());
-      continue;
+    if (opt.skipExisting) {
+      // A tile is done when it exists, or when its frame does (merged).
+      const std::string finalPath = (fs::path(opt.outDir) / finalName).string();
+      std::string done;
+      if (completeImage(path, tiled ? ImageFormat::Exr : opt.format,
+                        tiled ? window.x1 - window.x0 : info.imageWidth,
+                        tiled ? window.y1 - window.y0 : info.imageHeight))
+        done = path;
+      else if (tiled && completeImage(finalPath, opt.format, info.imageWidth, info.imageHeight))
+        done = finalPath;
+      if (!done.empty()) {
+        if (!opt.quiet) std::printf("%s exists: skipped\n", done.c_str());
+        continue;
+      }
     }
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
     Film film = renderScriptFrame(
@@ -226,6 +256,7 @@ int runLray(int argc, const char *const *argv) {
     return parsed.exitCode;
   }
   try {
+    if (parsed.options->watch) return runWatch(*parsed.options);
     return run(*parsed.options);
   } catch (const SceneError &e) {
     std::fprintf(stderr, "lray: error: %s\n", e.what());

@@ -49,7 +49,18 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   const CLI::Validator positive = finiteNumber(false), nonNegative = finiteNumber(true);
   app.set_version_flag("--version", std::string("lray ") + LRAY_VERSION);
   app.add_option("scene", o.scenePath, "Scene script (.lua)")->required();
-  app.add_option("outdir", o.outDir, "Folder for the rendered images")->required();
+  app.add_option("outdir", o.outDir, "Folder for the rendered images (optional with --watch)");
+  app.add_flag("--info", o.info,
+               "Load the scene and print its frame count, size and sampling as one line of "
+               "JSON (with the overrides given), render nothing; no outdir needed");
+  app.add_flag("--watch", o.watch,
+               "Live preview: render progressively, and again whenever the scene or a file it "
+               "read changes; the image goes to <outdir> (if given) and to the page of --serve");
+  auto *serve = app.add_option("--serve", o.serve,
+                               "With --watch: serve the preview page at HOST:PORT (default "
+                               "127.0.0.1:8765, loopback only)")
+                    ->type_name("HOST:PORT")
+                    ->expected(0, 1);
 
   std::map<std::string, BackendKind> byName;
   std::string backendNames; // "embree or kdtree": for an unknown name
@@ -163,6 +174,25 @@ ParseResult parseOptions(int argc, const char *const *argv) {
   } catch (const CLI::ParseError &e) {
     return {std::nullopt, 2, "lray: error: " + std::string(e.what()) + " (run 'lray --help' for usage)"};
   }
+  auto usageError0 = [](const std::string &why) {
+    return ParseResult{std::nullopt, 2, "lray: error: " + why + " (run 'lray --help' for usage)"};
+  };
+
+  if (serve->count() > 0 && o.serve.empty()) o.serve = "127.0.0.1:8765";
+  if (!o.serve.empty()) {
+    if (!o.watch) return usageError0("--serve shows the live preview of --watch: give --watch too");
+    const size_t colon = o.serve.rfind(':');
+    const std::string port = colon == std::string::npos ? "" : o.serve.substr(colon + 1);
+    if (colon == std::string::npos || colon == 0 || port.empty() || port.size() > 5 ||
+        port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
+      return usageError0("--serve '" + o.serve + "': expected HOST:PORT, e.g. 127.0.0.1:8765");
+    o.serveHost = o.serve.substr(0, colon);
+    if (o.serveHost.size() > 2 && o.serveHost.front() == '[' && o.serveHost.back() == ']')
+      o.serveHost = o.serveHost.substr(1, o.serveHost.size() - 2);
+    o.servePort = std::stoi(port);
+  }
+  if (o.outDir.empty() && !o.watch && !o.info)
+    return usageError0("give the folder for the images: lray <scene.lua> <outdir>");
 
   // A name given in any case; an unknown one lists the known ones.
   auto lookUp = [](std::string text, const auto &table, const char *option, const char *known,

@@ -20,7 +20,12 @@ struct Options {
   int threads = 0; ///< 0 = all cores
   std::optional<int> firstFrame, lastFrame; ///< --frames A:B[:STEP], inclusive, 0-based
   int frameStep = 1;                        ///< --frames A:B:STEP
-  bool skipExisting = false; ///< leave frames (and tiles) whose complete image exists
+  bool skipExisting = false;
+  bool info = false;   ///< --info: print the scene's frames and size as JSON, render nothing
+  bool watch = false;  ///< --watch: live preview, re-rendering on every save (app/watch/)
+  std::string serve;   ///< --serve HOST:PORT ("" = no page); parsed into serveHost/Port
+  std::string serveHost;
+  int servePort = 0; ///< leave frames (and tiles) whose complete image exists
   /// --tile I/N: band I (0-based) of N bands of rows; --crop: a pixel window.
   std::optional<std::pair<int, int>> tile;
   std::optional<PixelWindow> crop;

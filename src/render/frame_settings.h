@@ -58,6 +58,9 @@ struct FrameSettings {
   /// and adaptive sampling runs on a margin around it as wide as its
   /// passes can carry a neighbour's influence.
   PixelWindow crop;
+  /// Adaptive sampling: called after each pass with the image so far (the
+  /// live preview shows it refining); not called by fixed sampling.
+  std::function<void(const class Film &)> onPass;
   /// Set by another thread to stop an adaptive render at the next tile
   /// boundary (its first pass always completes; fixed sampling ignores it).
   const std::atomic<bool> *cancel = nullptr;

@@ -46,13 +46,20 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
 
 namespace {
 
+/// libpng's output: a FILE (png_init_io) or this memory buffer.
+void appendToBuffer(png_structp png, png_bytep data, png_size_t length) {
+  auto *out = static_cast<std::vector<uint8_t> *>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + length);
+}
+void flushNothing(png_structp) {}
+
 /// 8-bit RGB rows to a PNG file; "" or the reason it failed. With `srgb`
 /// the file says its values are sRGB-encoded (an sRGB chunk); without, it
 /// carries no colour-space chunk: the values are written as computed.
 std::string writePng(const std::string &path, int width, int height, const uint8_t *rgb,
-                     bool srgb) {
-  std::FILE *file = std::fopen(path.c_str(), "wb");
-  if (!file) return "cannot create the file";
+                     bool srgb, std::vector<uint8_t> *memory = nullptr) {
+  std::FILE *file = memory ? nullptr : std::fopen(path.c_str(), "wb");
+  if (!file && !memory) return "cannot create the file";
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   std::string why;
@@ -62,7 +69,8 @@ std::string writePng(const std::string &path, int width, int height, const uint8
   } else if (setjmp(png_jmpbuf(png))) {
     why = "libpng could not write it";
   } else {
-    png_init_io(png, file);
+    if (memory) png_set_write_fn(png, memory, &appendToBuffer, &flushNothing);
+    else png_init_io(png, file);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
                  PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
@@ -73,11 +81,18 @@ std::string writePng(const std::string &path, int width, int height, const uint8
     png_write_end(png, nullptr);
   }
   png_destroy_write_struct(png ? &png : nullptr, info ? &info : nullptr);
-  if (std::fclose(file) != 0 && why.empty()) why = "cannot finish the file";
+  if (file && std::fclose(file) != 0 && why.empty()) why = "cannot finish the file";
   return why;
 }
 
 } // namespace
+
+std::vector<uint8_t> encodePng(const Film &film, bool srgb) {
+  std::vector<uint8_t> bytes = quantizeFilm(film, srgb), png;
+  if (std::string why = writePng("", film.width(), film.height(), bytes.data(), srgb, &png); !why.empty())
+    throw std::runtime_error("cannot encode the image as PNG: " + why);
+  return png;
+}
 
 std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels) {
   channels = {"R", "G", "B", "Error", "SampleCount"};

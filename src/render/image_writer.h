@@ -28,6 +28,10 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb);
 /// Albedo.B (the names of pbrt-v4's GBufferFilm).
 std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels);
 
+/// The PNG file of `film` in memory, as writeImage would write it (the
+/// live preview serves it).
+std::vector<uint8_t> encodePng(const Film &film, bool srgb);
+
 /// Writes `film` to `path` in `format`: PNG/TGA 8 bits per channel (clamped,
 /// rounded; sRGB-encoded when `srgb`), EXR 32-bit float unclamped. Writes a
 /// temporary file in the same folder and renames it over `path`.

@@ -338,6 +338,12 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       }
     });
     ++passes;
+    if (settings.onPass && !cancelled) {
+      Film sofar(settings.width, settings.height);
+      buffer.writeTo(sofar);
+      sofar.report.passes = passes;
+      settings.onPass(sofar);
+    }
     if (timeUp || cancelled || target >= maxSamples) break;
     if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
     if (timed && std::chrono::steady_clock::now() >= deadline) {

@@ -1,0 +1,69 @@
+// Pipeline: application (live preview). See preview_server.h: the server
+// lives in liblray_preview.so (preview_module.cpp), loaded on first use
+// from the build that made this program (LRAY_PREVIEW_MODULE) or from
+// beside the executable.
+#include "app/watch/preview_server.h"
+
+#include "scene/scene_error.h"
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <mutex>
+
+namespace lray {
+
+namespace {
+
+const PreviewLibrary *load(std::string &tried) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  for (const fs::path &candidate :
+       {fs::path(LRAY_PREVIEW_MODULE), ec ? fs::path() : exe.parent_path() / "liblray_preview.so"}) {
+    if (candidate.empty()) continue;
+    void *handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      const char *why = dlerror();
+      tried += "\n  " + candidate.string() + ": " + (why ? why : "cannot load");
+      continue;
+    }
+    auto entry = reinterpret_cast<const PreviewLibrary *(*)()>(dlsym(handle, "lray_preview_library"));
+    if (entry) return entry();
+    tried += "\n  " + candidate.string() + ": no lray_preview_library";
+  }
+  return nullptr;
+}
+
+} // namespace
+
+const PreviewLibrary &previewLibrary() {
+  static std::once_flag once;
+  static const PreviewLibrary *library = nullptr;
+  static std::string tried;
+  std::call_once(once, [] { library = load(tried); });
+  if (!library) throw SceneError("--serve: cannot load LRay's preview server module:" + tried);
+  return *library;
+}
+
+PreviewServer::PreviewServer(PreviewState &state, const std::string &host, int port)
+    : host_(host) {
+  std::string error;
+  handle_ = previewLibrary().start(state, host, port, port_, error);
+  if (!handle_) throw SceneError("--serve " + host + ":" + std::to_string(port) + ": " + error);
+}
+
+PreviewServer::~PreviewServer() { stop(); }
+
+std::string PreviewServer::url() const {
+  const std::string h = host_.find(':') != std::string::npos ? "[" + host_ + "]" : host_;
+  return "http://" + h + ":" + std::to_string(port_) + "/";
+}
+
+void PreviewServer::stop() {
+  if (!handle_) return;
+  previewLibrary().stop(handle_);
+  handle_ = nullptr;
+}
+
+} // namespace lray

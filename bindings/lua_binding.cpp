@@ -230,8 +230,10 @@ std::string BindingContext::resolveReadPath(const std::string &file, const char 
   }
   if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
     throw ScriptError(std::string(what) + ": '" + file + "' is not a regular file (" + path + ")");
-  if (std::find(filesRead.begin(), filesRead.end(), path) == filesRead.end())
+  if (std::find(filesRead.begin(), filesRead.end(), path) == filesRead.end()) {
     filesRead.push_back(path);
+    if (readLog) readLog->push_back(path);
+  }
   return path;
 }
 

@@ -163,6 +163,7 @@ public:
   /// Every path resolveReadPath gave out (scripts, OBJ files, images,
   /// io.open), in order, once each: what `lray --watch` watches.
   mutable std::vector<std::string> filesRead;
+  std::shared_ptr<std::vector<std::string>> readLog; ///< ScriptOptions::readLog
 
   /// The state's allocator (set by ScriptState): its limit and the pool of
   /// memory held outside the Lua heap (external_memory.h).

@@ -16,6 +16,8 @@ namespace {
 /// it) and the solids in one tree (every one is tested per ray).
 constexpr int kMaxCsgNesting = 64;
 constexpr size_t kMaxCsgSolids = 4096;
+/// And the entries top-level Unions may expand to, in all (one entity each).
+constexpr size_t kMaxFlattenedSolids = size_t{1} << 21;
 
 class Converter {
 public:
@@ -122,6 +124,12 @@ private:
       return;
     }
     for (const EntityRef &child : c.children) {
+      // A Union used twice in one is copied twice: 40 levels of
+      // u = Union { u, u } would ask for 2^40 entities.
+      if (++flattened_ > kMaxFlattenedSolids)
+        throw SceneError(loc, std::string(name) + ": expands to more than " +
+                                  std::to_string(kMaxFlattenedSolids) +
+                                  " solids (a node listed twice is copied each time)");
       if (child.kind == EntityRefKind::Csg) {
         csg(*static_cast<const CsgObj *>(child.object), world, inherited, depth + 1);
         continue;
@@ -307,6 +315,7 @@ private:
 
   const BindingContext &ctx_;
   Scene out_;
+  size_t flattened_ = 0; ///< entries of top-level Unions expanded so far
   const TextureObj *lastTexture_ = nullptr;
   bool lastTextureValid_ = false;
   uint32_t lastTextureIndex_ = 0;

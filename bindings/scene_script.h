@@ -28,6 +28,10 @@ struct ScriptOptions {
   /// --max-file-size: the largest scene or OBJ file read (text formats
   /// are read whole before they are parsed).
   uint64_t maxFileBytes = uint64_t{1} << 30;
+  /// If set, also gets every file the script reads (as filesRead()), kept
+  /// when loading fails: `lray --watch` watches an included file that has
+  /// an error.
+  std::shared_ptr<std::vector<std::string>> readLog;
 };
 
 /// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.

@@ -58,6 +58,7 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
   allocator_->setLimit(static_cast<size_t>(options.memoryLimitBytes));
   ctx_->allocator = allocator_.get();
   ctx_->maxFileBytes = options.maxFileBytes;
+  ctx_->readLog = options.readLog;
   // Scene scripts make many short-lived values (Vector, Transform):
   // generational collection frees them young and keeps the peak low.
   lua_gc(L_, LUA_GCGEN, 0, 0);

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <new>
 #include <unistd.h>
@@ -138,6 +139,18 @@ int run(const Options &opt) {
   }
   const bool tiled = !frameSampling.crop.empty();
   const PixelWindow &window = frameSampling.crop;
+  std::string fingerprint;
+  if (tiled) {
+    std::ifstream in(opt.scenePath, std::ios::binary);
+    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const AdaptiveSettings &a = sampling.adaptiveSettings;
+    fingerprint = renderFingerprint(
+        bytes, fmt::format("{}x{} samples {} adaptive {} {} {} {} seed {} light {} linear {} aovs {} backend {}",
+                           info.imageWidth, info.imageHeight, info.samples, sampling.adaptive,
+                           a.noiseThreshold, a.minSamples, a.maxSamples, sampling.seed,
+                           static_cast<int>(sampling.lightSampling), opt.linear, opt.aovs,
+                           stats.backend));
+  }
 
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
@@ -154,9 +167,9 @@ int run(const Options &opt) {
       // A tile is done when it exists, or when its frame does (merged).
       const std::string finalPath = (fs::path(opt.outDir) / finalName).string();
       std::string done;
-      if (completeImage(path, tiled ? ImageFormat::Exr : opt.format,
-                        tiled ? window.x1 - window.x0 : info.imageWidth,
-                        tiled ? window.y1 - window.y0 : info.imageHeight))
+      if (tiled ? completeTile(path, {finalName, opt.format, opt.linear, info.imageWidth,
+                                      info.imageHeight, window, fingerprint})
+                : completeImage(path, opt.format, info.imageWidth, info.imageHeight))
         done = path;
       else if (tiled && completeImage(finalPath, opt.format, info.imageWidth, info.imageHeight))
         done = finalPath;
@@ -177,7 +190,8 @@ int run(const Options &opt) {
 
     t0 = std::chrono::steady_clock::now();
     if (tiled)
-      writeTile(film, {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window}, path);
+      writeTile(film, {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window, fingerprint},
+                path);
     else
       writeImage(film, path, opt.format, opt.linear);
     frameStats.writeSeconds = secondsSince(t0);

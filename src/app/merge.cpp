@@ -51,6 +51,11 @@ std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::v
       return finalName + ": tile '" + p.path.filename().string() +
              "' was rendered with another size, format or encoding than '" +
              pieces.front().path.filename().string() + "'";
+    if (h.render != h0.render)
+      return finalName + ": tile '" + p.path.filename().string() + "' and '" +
+             pieces.front().path.filename().string() +
+             "' come from different renders (another scene file, samples, seed or backend): "
+             "render the frame's tiles again with the same scene and options";
   }
   Film film(h0.fullWidth, h0.fullHeight);
   if (pieces.front().tile.film.hasAovs()) film.enableAovs();
@@ -117,9 +122,15 @@ MergeResult mergeTiles(const std::string &dirName, bool keepTiles) {
     }
     frames[p.tile.header.finalName].push_back(std::move(p));
   }
-  for (auto &[finalName, pieces] : frames)
-    if (std::string why = mergeFrame(dir, finalName, pieces, keepTiles, result.written); !why.empty())
-      result.problems.push_back(why);
+  for (auto &[finalName, pieces] : frames) {
+    std::string why;
+    try {
+      why = mergeFrame(dir, finalName, pieces, keepTiles, result.written);
+    } catch (const std::exception &e) { // one frame's failure leaves the others to merge
+      why = finalName + ": " + e.what();
+    }
+    if (!why.empty()) result.problems.push_back(why);
+  }
   return result;
 }
 

@@ -311,6 +311,9 @@ ParseResult parseOptions(int argc, const char *const *argv) {
     o.crop = PixelWindow{n[0], n[1], n[2], n[3]};
   }
   if (o.tile && o.crop) return usageError("--tile and --crop both choose the pixels: give one");
+  if (o.watch && (o.tile || o.crop || o.info || o.skipExisting || o.timeLimit > 0))
+    return usageError("--watch renders whole frames until the scene changes: --tile, --crop, "
+                      "--info, --skip-existing and --time-limit do not apply to it");
   return {o, 0, ""};
 }
 

@@ -141,6 +141,11 @@ constexpr double kCoincident = 0x1p-32;
 const Crossing *firstSurface(const CsgTree &tree, const Ray &ray, Scratch &s) {
   std::vector<Crossing> &c = s.crossings;
   c.clear();
+  const double scale = maxAbsComponent(ray.o) / maxAbsComponent(ray.d);
+  // Crossings up to a coincidence window past tMax are kept, so a group
+  // straddling tMax is judged whole (the answer must not depend on how far
+  // a backend's query reaches); only a surface below tMax is reported.
+  const double limit = ray.tMax + kCoincident * (std::fabs(ray.tMax) + scale);
   for (uint32_t i = 0; i < tree.leaves.size(); ++i) {
     const CsgTree::Leaf &leaf = tree.leaves[i];
     if (!lineMeetsBox(ray, leaf.bounds)) continue;
@@ -150,9 +155,9 @@ const Crossing *firstSurface(const CsgTree &tree, const Ray &ray, Scratch &s) {
     for (int k = 0; k < n; ++k) {
       const Span &sp = spans[k];
       const double t0 = sp.t0 + shift, t1 = sp.t1 + shift;
-      if (!(t0 < ray.tMax)) break; // this and later spans start beyond the query
+      if (!(t0 < limit)) break; // this and later spans start beyond the query
       c.push_back({t0, sp.t0, i, sp.part0, true});
-      if (t1 < ray.tMax) c.push_back({t1, sp.t1, i, sp.part1, false});
+      if (t1 < limit) c.push_back({t1, sp.t1, i, sp.part1, false});
     }
   }
   if (c.empty()) return nullptr;
@@ -162,14 +167,15 @@ const Crossing *firstSurface(const CsgTree &tree, const Ray &ray, Scratch &s) {
   } else {
     std::sort(c.begin(), c.end(), before);
   }
-  const double scale = maxAbsComponent(ray.o) / maxAbsComponent(ray.d);
   Sweep sweep(tree, s);
   for (size_t i = 0; i < c.size();) {
     // The group of crossings coincident with c[i].
     const double reach = c[i].t + kCoincident * (std::fabs(c[i].t) + scale);
     size_t end = i + 1;
     while (end < c.size() && c[end].t <= reach) ++end;
-    auto candidate = [&](const Crossing &x) { return x.part >= 0 && x.t > ray.tMin; };
+    auto candidate = [&](const Crossing &x) {
+      return x.part >= 0 && x.t > ray.tMin && x.t < ray.tMax;
+    };
     if (end == i + 1) {
       const Crossing &x = c[i];
       if (candidate(x) && sweep.kept(x.leaf)) return &x;

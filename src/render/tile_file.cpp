@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char *kFinal = "lray:final", *kFormat = "lray:format", *kEncoding = "lray:encoding";
+constexpr const char *kFinal = "lray:final", *kFormat = "lray:format", *kEncoding = "lray:encoding",
+                     *kRender = "lray:render";
 
 bool formatNamed(const std::string &name, ImageFormat &format) {
   for (ImageFormat f : {ImageFormat::Png, ImageFormat::Tga, ImageFormat::Exr})
@@ -31,6 +32,17 @@ bool formatNamed(const std::string &name, ImageFormat &format) {
 }
 
 } // namespace
+
+std::string renderFingerprint(const std::string &sceneBytes, const std::string &settings) {
+  uint64_t h = 14695981039346656037ull;
+  auto add = [&](const std::string &text) {
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    h = (h ^ 0xff) * 1099511628211ull; // a separator no text holds
+  };
+  add(sceneBytes);
+  add(settings);
+  return fmt::format("{:016x}", h);
+}
 
 PixelWindow tileBand(int index, int count, int width, int height) {
   const int rows = (height + kTileSize - 1) / kTileSize;
@@ -71,7 +83,8 @@ void writeTile(const Film &film, const TileHeader &header, const std::string &pa
   }
   image.attributes = {{kFinal, header.finalName},
                       {kFormat, formatExtension(header.format)},
-                      {kEncoding, header.srgb ? "srgb" : "linear"}};
+                      {kEncoding, header.srgb ? "srgb" : "linear"},
+                      {kRender, header.render}};
 
   static std::atomic<unsigned> counter{0};
   const fs::path finalPath(path);
@@ -100,18 +113,33 @@ Tile readTile(const std::string &path) {
     if (name == kFinal) h.finalName = value;
     else if (name == kFormat) format = value;
     else if (name == kEncoding) encoding = value;
+    else if (name == kRender) h.render = value;
   }
   if (h.finalName.empty() || !formatNamed(format, h.format) ||
-      (encoding != "srgb" && encoding != "linear") ||
-      h.finalName.find('/') != std::string::npos || h.finalName.rfind('.', 0) == 0)
+      (encoding != "srgb" && encoding != "linear"))
     throw SceneError("tile '" + path + "': not a tile written by lray --tile or --crop (no "
                      "frame name, format or encoding in its header)");
+  // The frame it names is the one its own file name says, in its format:
+  // a tile cannot make lray-merge write any other file.
+  const std::string tileName = fs::path(path).filename().string();
+  const fs::path finalPath(h.finalName);
+  if (finalPath.filename() != finalPath || finalPath.stem().string().empty() ||
+      tileName.rfind(finalPath.stem().string() + ".", 0) != 0 ||
+      finalPath.extension() != "." + formatExtension(h.format))
+    throw SceneError("tile '" + path + "': it names the frame '" + h.finalName +
+                     "', which is not its own");
   h.srgb = encoding == "srgb";
   h.fullWidth = image.fullWidth;
   h.fullHeight = image.fullHeight;
-  h.window = {image.x0, image.y0, image.x0 + image.width, image.y0 + image.height};
-  if (h.window.x0 < 0 || h.window.y0 < 0 || h.window.x1 > h.fullWidth || h.window.y1 > h.fullHeight)
+  const int64_t x1 = int64_t{image.x0} + image.width, y1 = int64_t{image.y0} + image.height;
+  if (h.fullWidth <= 0 || h.fullHeight <= 0 ||
+      static_cast<uint64_t>(h.fullWidth) * static_cast<uint64_t>(h.fullHeight) > kMaxTextureTexels)
+    throw SceneError("tile '" + path + "': its frame is " + std::to_string(h.fullWidth) + " x " +
+                     std::to_string(h.fullHeight) + " pixels, outside the limit of " +
+                     std::to_string(kMaxTextureTexels));
+  if (image.x0 < 0 || image.y0 < 0 || x1 > h.fullWidth || y1 > h.fullHeight)
     throw SceneError("tile '" + path + "': its pixels lie outside its frame");
+  h.window = {image.x0, image.y0, static_cast<int>(x1), static_cast<int>(y1)};
   const auto &ch = image.channels;
   const size_t nc = ch.size();
   auto at = [&](const char *name) -> int {
@@ -132,13 +160,28 @@ Tile readTile(const std::string &path) {
       const float *p = &image.pixels[(static_cast<size_t>(y) * image.width + x) * nc];
       tile.film.set(x, y, {p[r], p[g], p[b]});
       tile.film.setError(x, y, p[err]);
-      tile.film.setSampleCount(x, y, static_cast<uint32_t>(p[count]));
+      const float n = p[count];
+      tile.film.setSampleCount(x, y, n >= 0 && n <= 4294967040.f ? static_cast<uint32_t>(n) : 0);
       if (aovs) {
         Film::Aov &a = tile.film.aov(x, y);
         a = {p[z], {p[nx], p[ny], p[nz]}, {p[ar], p[ag], p[ab]}};
       }
     }
   return tile;
+}
+
+bool completeTile(const std::string &path, const TileHeader &expected) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  try {
+    const TileHeader h = readTile(path).header;
+    return h.finalName == expected.finalName && h.format == expected.format &&
+           h.srgb == expected.srgb && h.fullWidth == expected.fullWidth &&
+           h.fullHeight == expected.fullHeight && h.window == expected.window &&
+           h.render == expected.render;
+  } catch (const SceneError &) {
+    return false;
+  }
 }
 
 bool completeImage(const std::string &path, ImageFormat format, int width, int height) {

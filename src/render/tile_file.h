@@ -22,7 +22,15 @@ struct TileHeader {
   bool srgb = false;     ///< --linear: 8-bit outputs are sRGB-encoded
   int fullWidth = 0, fullHeight = 0;
   PixelWindow window;
+  /// What the frame was rendered from and with (renderFingerprint): tiles
+  /// of one frame must agree, or they are not of one render.
+  std::string render;
 };
+
+/// A fingerprint of a render's inputs: the scene file's bytes and every
+/// setting that changes pixels (FNV-1a, hex). Files the scene reads (OBJ,
+/// images) are not in it.
+std::string renderFingerprint(const std::string &sceneBytes, const std::string &settings);
 
 /// Band `index` (0-based) of `count` bands of whole 16-pixel tile rows of a
 /// width x height frame. Throws SceneError when count exceeds the rows.
@@ -48,7 +56,10 @@ Tile readTile(const std::string &path);
 
 /// Whether `path` is a complete image of `width` x `height` pixels in
 /// `format` (fully decoded: a truncated file is not): --skip-existing.
-/// A tile counts when its window has that size.
 bool completeImage(const std::string &path, ImageFormat format, int width, int height);
+
+/// Whether `path` is a complete tile with exactly this header (the same
+/// frame, format, encoding, size, window and render): --skip-existing.
+bool completeTile(const std::string &path, const TileHeader &expected);
 
 } // namespace lray

@@ -81,7 +81,9 @@ ShadowShafts::ShadowShafts(const Scene &scene)
       meshes_.push_back(
           {box, e.worldFromObject.isIdentity() ? 0.0 : kFloatPad * maxAbs(box, frameOrigin_)});
     } else if (shapeBounded(e)) {
-      boxes_.push_back(widened(shapeWorldBounds(e)));
+      const Bounds3 box = shapeWorldBounds(e);
+      if (box.empty()) continue; // nothing to hit (a CSG of disjoint solids)
+      boxes_.push_back(widened(box));
       boxEntity_.push_back(index);
     } else if (!std::holds_alternative<Plane>(e.shape)) {
       unboundedEntity_.push_back(index); // an unbounded CSG: a candidate for every shaft

@@ -105,6 +105,25 @@ TEST_F(Farm, MergeNamesWhatIsMissingOrWrong) {
   r = runMerge(other.string());
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("not a tile written by lray --tile or --crop"), std::string::npos) << r.output;
+  // Tiles of two different renders of one frame (other samples).
+  fs::path mixed = dir_ / "m";
+  ASSERT_EQ(runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 1 --tile 0/2").status, 0);
+  ASSERT_EQ(runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 2 --tile 1/2").status, 0);
+  r = runMerge(mixed.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("come from different renders"), std::string::npos) << r.output;
+  // --skip-existing does not take a tile of another render for this one.
+  r = runLray(scene.string() + " " + mixed.string() + " --frames 0 -s 2 --tile 0/2 --skip-existing");
+  EXPECT_EQ(r.output.find("exists: skipped"), std::string::npos) << r.output;
+  EXPECT_EQ(runMerge(mixed.string()).status, 0);
+  // A tile renamed to claim another frame (or any other file) is refused.
+  fs::path renamed = dir_ / "r";
+  ASSERT_EQ(runLray(scene.string() + " " + renamed.string() + " -q --frames 0 --tile 0/1").status, 0);
+  fs::rename(renamed / "f0000.tile-0-of-1.exr", renamed / "f.tile-0-of-1.exr");
+  r = runMerge(renamed.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("it names the frame 'f0000.png', which is not its own"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(renamed / "f0000.png"));
   // Nothing to do is not an error.
   fs::create_directories(dir_ / "empty");
   EXPECT_EQ(runMerge((dir_ / "empty").string()).status, 0);

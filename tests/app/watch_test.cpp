@@ -87,6 +87,29 @@ TEST_F(WatchTest, TheScriptReportsEveryFileItRead) {
   EXPECT_EQ(fs::path(read[2]).filename(), "tri.obj");
 }
 
+TEST_F(WatchTest, FilesReadBeforeALoadFailsAreReported) {
+  // An included file with a syntax error: watched, so that fixing it renders again.
+  write("part.lua", "this is not Lua\n");
+  write("scene.lua", "dofile('part.lua')\nfunction scene() return Scene() end\n");
+  ScriptOptions options;
+  options.readLog = std::make_shared<std::vector<std::string>>();
+  EXPECT_THROW(SceneScript((dir_ / "scene.lua").string(), options), SceneError);
+  ASSERT_EQ(options.readLog->size(), 1u);
+  EXPECT_EQ(fs::path(options.readLog->front()).filename(), "part.lua");
+}
+
+TEST(PreviewStateTest, TextThatIsNotUtf8IsShownNotRefused) {
+  PreviewState state;
+  PreviewStatus st;
+  st.message = "scene.lua:3: caf\xe9";
+  st.scene = "/tmp/\xff.lua";
+  st.statsJson = "{\"file\": \"\xe9\"}";
+  state.publish(st);
+  std::string json;
+  ASSERT_NO_THROW(json = state.statusJson());
+  EXPECT_NE(json.find("caf\xef\xbf\xbd"), std::string::npos) << json; // U+FFFD
+}
+
 TEST_F(WatchTest, ACancelledRenderStopsWithinOnePass) {
   write("scene.lua", "function scene() local s = Scene() ; s:add_entity(Sphere(Translate(Vector(0, 0, 4))))\n"
                      "s:add_light(Light() { transform = Translate(Vector(2, 3, 0)) }) ; return s end\n");
@@ -129,7 +152,7 @@ TEST(PreviewServer, ServesOnlyItsRoutesToItsOwnOrigin) {
   EXPECT_EQ(client.Get("/image.png")->status, 404); // no image yet
   PreviewStatus st;
   st.state = "done";
-  state.publish({0x89, 'P', 'N', 'G'}, st);
+  state.publish({0x89, 'P', 'N', 'G'}, st, "");
   auto image = client.Get("/image.png");
   EXPECT_EQ(image->status, 200);
   EXPECT_EQ(image->body, std::string("\x89PNG"));

@@ -3,6 +3,8 @@
 // inner surfaces against Merge, half-spaces, coincident faces, bounds.
 #include "geometry/csg_ray.h"
 
+#include "accel/accelerator.h"
+
 #include "csg_test_trees.h"
 #include "geometry/spawn.h"
 
@@ -197,6 +199,30 @@ TEST(Csg, CoincidentFacesGiveOneAnswer) {
       // From inside the lower cube, the next surface is the top of the upper.
       ASSERT_TRUE(hitOf(merged, ray(rot.applyPoint({0.45 * u(rng), 0.45 * u(rng), 0}), axis), h));
       EXPECT_NEAR(h.t, 1.5, 1e-9);
+    }
+  }
+}
+
+// An Intersection of disjoint solids has empty bounds and nothing to hit,
+// on both backends (Embree must not get an inverted box).
+TEST(Csg, AnEmptyResultIsNeverHitOnEitherBackend) {
+  Scene s;
+  s.entities.push_back(csgEntity(opSpec(CsgOp::Intersection,
+                                        {leafSpec(ShapeKind::Sphere, Transform::translate({-3, 0, 5})),
+                                         leafSpec(ShapeKind::Sphere, Transform::translate({3, 0, 5}))})));
+  s.entities.push_back(test::leafSpec(ShapeKind::Sphere, Transform::translate({0, 0, 9})).leaf);
+  s.textures.push_back({});
+  EXPECT_TRUE(shapeWorldBounds(s.entities[0]).empty());
+  for (BackendKind kind : {BackendKind::Embree, BackendKind::KdTree}) {
+    auto accel = makeAccelerator(kind, s);
+    for (double x : {-3.0, 0.0, 3.0}) {
+      Hit h;
+      const Ray r{{x, 0, 0}, {0, 0, 1}, 0, kInf};
+      const bool hit = accel->intersect(r, h);
+      EXPECT_EQ(hit, x == 0.0) << backendName(kind) << " x " << x;
+      if (hit) {
+        EXPECT_EQ(h.entity, 1u);
+      }
     }
   }
 }

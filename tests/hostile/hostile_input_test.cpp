@@ -246,6 +246,13 @@ TEST_F(Hostile, DeeplyNestedCsgIsAnErrorNotACrash) {
   }
 }
 
+TEST_F(Hostile, ASharedUnionThatDoublesFortyTimesIsRefused) {
+  const std::string s = write(
+      "double.lua", "local u = Sphere()\nfor i = 1, 40 do u = Union { u, u } end\n"
+                    "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+  expectRefused({s, out()}, 1, "double.lua:2: Union: expands to more than 2097152 solids", 30, 1500);
+}
+
 TEST_F(Hostile, AHugeCsgTreeIsRefusedNamingTheLine) {
   const std::string s = write(
       "big.lua", "local list = {}\nfor i = 1, 200000 do list[i] = Sphere() end\n"

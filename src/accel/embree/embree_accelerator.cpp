@@ -256,7 +256,9 @@ void EmbreeAccelerator::build() {
     const Entity &e = entities[i];
     auto id = static_cast<unsigned>(i);
     if (!e.isMesh()) {
-      if (!UnboundedShapes::holds(e)) shapeRefs_.push_back({&e, id});
+      // A shape with empty bounds (a CSG Intersection of disjoint solids)
+      // has nothing to hit, and Embree would take its inverted box in.
+      if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty()) shapeRefs_.push_back({&e, id});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

@@ -63,6 +63,13 @@ bool FileWatcher::drain() {
     if (n <= 0) break;
     for (char *p = buffer; p < buffer + n;) {
       const auto *e = reinterpret_cast<const inotify_event *>(p);
+      if (e->mask & IN_Q_OVERFLOW) changed = true; // events were lost: assume ours
+      if (e->mask & IN_IGNORED) { // the folder went away: watch() adds it again
+        folders_.erase(e->wd);
+        p += sizeof(inotify_event) + e->len;
+        changed = true;
+        continue;
+      }
       auto folder = folders_.find(e->wd);
       if (folder != folders_.end() && e->len > 0 &&
           files_.count((fs::path(folder->second) / e->name).string()))

@@ -8,6 +8,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -32,8 +34,9 @@ struct PreviewServer::Impl {
   bool hostAllowed(const httplib::Request &req) const {
     if (!loopback()) return true;
     const std::string h = req.get_header_value("Host");
-    const std::string p = ":" + std::to_string(port);
-    return h == "127.0.0.1" + p || h == "localhost" + p || h == "[::1]" + p;
+    for (const char *name : {"127.0.0.1", "localhost", "[::1]"})
+      if (h == std::string(name) + ":" + std::to_string(port) || (port == 80 && h == name)) return true;
+    return false;
   }
 
   /// No Origin (a same-origin GET, curl) or this page's own origin.
@@ -42,12 +45,34 @@ struct PreviewServer::Impl {
     return req.get_header_value("Origin") == "http://" + req.get_header_value("Host");
   }
 
+  /// One step of an event stream: the current status at once, then each
+  /// new one; a comment line every 5 s shows whether the client is still
+  /// there (its thread is freed at the first failed write) and keeps
+  /// proxies from closing an idle stream.
+  bool stream(uint64_t &sent, httplib::DataSink &sink) {
+    if (state.stopped() || !sink.is_writable()) return false;
+    const uint64_t now = sent == ~uint64_t{0} ? state.version()
+                                              : state.waitPast(sent, std::chrono::seconds(5));
+    if (state.stopped()) return false;
+    std::string chunk = ": idle\n\n";
+    if (now != sent) {
+      chunk = "data: " + state.statusJson() + "\n\n";
+      sent = now;
+    }
+    return sink.write(chunk.data(), chunk.size());
+  }
+
   void refuse(httplib::Response &res, int status, const std::string &why) {
     res.status = status;
     res.set_content(why + "\n", "text/plain");
   }
 
   void routes() {
+    // Each open page holds a thread for its event stream: room for many.
+    server.new_task_queue = [] { return new httplib::ThreadPool(32); };
+    server.set_post_routing_handler([](const httplib::Request &, httplib::Response &res) {
+      res.set_header("X-Frame-Options", "DENY"); // no page of another site may frame Save
+    });
     server.set_pre_routing_handler([this](const httplib::Request &req, httplib::Response &res) {
       if (hostAllowed(req)) return httplib::Server::HandlerResponse::Unhandled;
       refuse(res, 403, "this preview answers only to its loopback address");
@@ -72,18 +97,11 @@ struct PreviewServer::Impl {
       res.set_header("Cache-Control", "no-store");
       auto sent = std::make_shared<uint64_t>(~uint64_t{0});
       res.set_chunked_content_provider("text/event-stream", [this, sent](size_t, httplib::DataSink &sink) {
-        if (state.stopped()) return false;
-        // The current status at once, then each new one; a comment line
-        // every 15 s keeps proxies from closing an idle stream.
-        const uint64_t now = *sent == ~uint64_t{0} ? state.version()
-                                                   : state.waitPast(*sent, std::chrono::seconds(15));
-        if (state.stopped()) return false;
-        std::string chunk = ": idle\n\n";
-        if (now != *sent) {
-          chunk = "data: " + state.statusJson() + "\n\n";
-          *sent = now;
+        try {
+          return stream(*sent, sink);
+        } catch (...) {
+          return false; // nothing may escape a content provider: it would end the process
         }
-        return sink.write(chunk.data(), chunk.size());
       });
     });
     server.Post("/control", [this](const httplib::Request &req, httplib::Response &res) {
@@ -105,11 +123,15 @@ struct PreviewServer::Impl {
     });
     server.Post("/save", [this](const httplib::Request &req, httplib::Response &res) {
       if (!sameOrigin(req)) return refuse(res, 403, "actions are for this page's own origin");
-      auto image = state.image();
-      const std::string path = state.savePath();
+      auto [image, path] = state.imageToSave();
       if (!image || path.empty()) return refuse(res, 409, "no image to save yet");
-      // The path is the watch loop's, never the request's.
-      const std::string tmp = path + ".tmp" + std::to_string(getpid());
+      // The path is the watch loop's, never the request's; two saves at
+      // once write temporary files of their own.
+      static std::atomic<unsigned> counter{0};
+      const std::string tmp = (fs::path(path).parent_path() /
+                               ("." + fs::path(path).filename().string() + ".tmp" +
+                                std::to_string(getpid()) + "_" + std::to_string(counter++)))
+                                  .string();
       {
         std::ofstream out(tmp, std::ios::binary);
         out.write(reinterpret_cast<const char *>(image->data()), static_cast<std::streamsize>(image->size()));
@@ -149,6 +171,10 @@ void *startServer(PreviewState &state, const std::string &host, int port, int &b
   bound = impl->port;
   PreviewServer::Impl *raw = impl.get();
   impl->thread = std::thread([raw] { raw->server.listen_after_bind(); });
+  // stop() before the server runs would be lost and the join would hang:
+  // return once it runs (bounded).
+  for (int i = 0; i < 500 && !impl->server.is_running(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   return impl.release();
 }
 

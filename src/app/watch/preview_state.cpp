@@ -5,11 +5,13 @@
 
 namespace lray {
 
-void PreviewState::publish(std::vector<uint8_t> png, const PreviewStatus &status) {
+void PreviewState::publish(std::vector<uint8_t> png, const PreviewStatus &status,
+                           const std::string &savePath) {
   auto image = std::make_shared<const std::vector<uint8_t>>(std::move(png));
   {
     std::lock_guard lock(mutex_);
     image_ = std::move(image);
+    savePath_ = savePath;
     status_ = status;
     imageVersion_ = ++version_;
   }
@@ -46,8 +48,11 @@ std::string PreviewState::statusJson() const {
                       {"backend", s.backend},
                       {"backends", s.backends},
                       {"scene", s.scene}};
-  j["stats"] = nlohmann::json::parse(s.statsJson, nullptr, false);
-  return j.dump();
+  nlohmann::json stats = nlohmann::json::parse(s.statsJson, nullptr, false);
+  j["stats"] = stats.is_discarded() ? nlohmann::json() : stats;
+  // A message or path that is not UTF-8 (a Latin-1 file name, a script's
+  // error("caf\xe9")) is shown with replacement characters, never refused.
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::shared_ptr<const std::vector<uint8_t>> PreviewState::image() const {
@@ -88,14 +93,9 @@ bool PreviewState::requestPending() const {
   return request_.has_value();
 }
 
-void PreviewState::setSavePath(const std::string &path) {
+std::pair<std::shared_ptr<const std::vector<uint8_t>>, std::string> PreviewState::imageToSave() const {
   std::lock_guard lock(mutex_);
-  savePath_ = path;
-}
-
-std::string PreviewState::savePath() const {
-  std::lock_guard lock(mutex_);
-  return savePath_;
+  return {image_, savePath_};
 }
 
 void PreviewState::stop() {

@@ -39,8 +39,9 @@ struct PreviewRequest {
 
 class PreviewState {
 public:
-  /// A new image with its status (the image stays until the next one).
-  void publish(std::vector<uint8_t> png, const PreviewStatus &status);
+  /// A new image with its status (the image stays until the next one), and
+  /// where the page's Save button writes it.
+  void publish(std::vector<uint8_t> png, const PreviewStatus &status, const std::string &savePath);
   /// A new status, keeping the image (an error: the last good image stays).
   void publish(const PreviewStatus &status);
 
@@ -57,9 +58,8 @@ public:
   std::optional<PreviewRequest> takeRequest();
   bool requestPending() const;
 
-  /// Where the page's Save button writes the current image.
-  void setSavePath(const std::string &path);
-  std::string savePath() const;
+  /// The current image and the path the page's Save writes it to, together.
+  std::pair<std::shared_ptr<const std::vector<uint8_t>>, std::string> imageToSave() const;
 
   void stop();
   bool stopped() const;

@@ -29,10 +29,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-volatile std::sig_atomic_t gStop = 0;
+std::atomic<bool> gStop{false}; // lock-free: safe in a signal handler
+static_assert(std::atomic<bool>::is_always_lock_free);
 
 extern "C" void onStopSignal(int) {
-  gStop = 1;
+  gStop = true;
   // A second Ctrl-C ends the process at once.
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
@@ -64,8 +65,10 @@ public:
     status_.scene = opt_.scenePath;
     status_.backend = backend_;
     for (const BackendEntry &b : backends()) status_.backends.push_back(b.name);
+    ScriptOptions scriptOptions = scriptOptionsOf(opt_);
+    scriptOptions.readLog = std::make_shared<std::vector<std::string>>();
     try {
-      SceneScript script(opt_.scenePath, scriptOptionsOf(opt_));
+      SceneScript script(opt_.scenePath, scriptOptions);
       Options fixed = opt_;
       fixed.firstFrame.reset();
       fixed.lastFrame.reset();
@@ -77,9 +80,12 @@ public:
       status_.width = info.imageWidth;
       status_.height = info.imageHeight;
       const std::string stem = fs::path(opt_.scenePath).stem().string();
-      const std::string fileName = frameFileName(stem, frame_, info.frames, ImageFormat::Png);
+      // Beside the scene, a name of its own: Save never replaces a user's file.
+      const std::string fileName = opt_.outDir.empty()
+                                       ? frameFileName(stem + "-preview", frame_, info.frames, ImageFormat::Png)
+                                       : frameFileName(stem, frame_, info.frames, ImageFormat::Png);
       const fs::path folder = opt_.outDir.empty() ? fs::path(opt_.scenePath).parent_path() : fs::path(opt_.outDir);
-      state_.setSavePath((folder / fileName).string());
+      savePath_ = (folder / fileName).string();
       if (!opt_.outDir.empty()) {
         fs::create_directories(opt_.outDir);
         outPath_ = (fs::path(opt_.outDir) / frameFileName(stem, frame_, info.frames, opt_.format)).string();
@@ -127,16 +133,24 @@ public:
       if (!film.report.cancelled) publish(film, film.report.passes, "done", stats);
       return script.filesRead();
     } catch (const std::exception &e) {
-      status_.state = "error";
-      status_.message = e.what();
-      status_.seconds = secondsSince(start_);
-      state_.publish(status_);
-      if (!opt_.quiet) std::fprintf(stderr, "lray: error: %s\n", e.what());
-      return {};
+      fail(e.what());
+    } catch (...) {
+      fail("the render failed");
     }
+    // The files read before the error: an included file that fails to load
+    // is watched, so fixing it renders again.
+    return *scriptOptions.readLog;
   }
 
 private:
+  void fail(const std::string &message) {
+    status_.state = "error";
+    status_.message = message;
+    status_.seconds = secondsSince(start_);
+    state_.publish(status_);
+    if (!opt_.quiet) std::fprintf(stderr, "lray: error: %s\n", message.c_str());
+  }
+
   void publish(const Film &film, int pass, const char *what, const FrameStats &stats) {
     status_.state = what;
     status_.message.clear();
@@ -155,7 +169,7 @@ private:
     run.frames.push_back(stats);
     run.frames.back().sampling = film.report;
     status_.statsJson = toJson(run);
-    state_.publish(encodePng(film, opt_.linear), status_);
+    state_.publish(encodePng(film, opt_.linear), status_, savePath_);
     if (!outPath_.empty()) writeImage(film, outPath_, opt_.format, opt_.linear);
   }
 
@@ -165,7 +179,7 @@ private:
   std::string backend_;
   const std::atomic<bool> &cancel_;
   PreviewStatus status_;
-  std::string outPath_;
+  std::string outPath_, savePath_;
   FrameSettings sampling_;
   std::chrono::steady_clock::time_point start_;
 };
@@ -188,6 +202,7 @@ int runWatch(const Options &opt) {
   const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                   static_cast<size_t>(threads));
+  FileWatcher watcher; // first: its failure must not leave a server starting up
   PreviewState state;
   std::optional<PreviewServer> server;
   if (!opt.serve.empty()) {
@@ -197,11 +212,10 @@ int runWatch(const Options &opt) {
     std::printf("lray: watching %s (Ctrl-C to stop)\n", opt.scenePath.c_str());
   }
   std::fflush(stdout);
-  gStop = 0;
+  gStop = false;
   std::signal(SIGINT, onStopSignal);
   std::signal(SIGTERM, onStopSignal);
 
-  FileWatcher watcher;
   std::vector<std::string> files; // the last good load's, beside the scene
   int frame = opt.firstFrame.value_or(0);
   std::string backend = backendName(opt.backend);
@@ -221,6 +235,7 @@ int runWatch(const Options &opt) {
     }
     std::atomic<bool> cancel{false}, done{false};
     std::vector<std::string> read;
+    const auto renderStart = fs::file_time_type::clock::now();
     std::thread worker([&] {
       read = Render(opt, state, frame, backend, cancel).run();
       done = true;
@@ -236,7 +251,17 @@ int runWatch(const Options &opt) {
       }
     }
     worker.join();
-    if (!read.empty()) files = read;
+    // A file first read by this render was not watched while it ran: if it
+    // changed since the render began, render again.
+    for (const std::string &f : read) {
+      if (std::find(files.begin(), files.end(), f) != files.end()) continue;
+      std::error_code ec;
+      if (fs::last_write_time(f, ec) >= renderStart && !ec) again = true;
+    }
+    // Watched from now on: every file any load has read (a file dropped from
+    // the scene stays watched; harmless).
+    for (const std::string &f : read)
+      if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
     watchAll();
     if (again) continue;
     while (!gStop && !state.requestPending() &&

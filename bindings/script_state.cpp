@@ -98,6 +98,10 @@ ScriptState::~ScriptState() {
   // install none, but with --unsafe one could loop forever; Lua runs them
   // with the hooks off, so only the watchdog can end that.
   armDeadline("its finalizers");
+  // A script stopped at its memory limit leaves the heap there: the
+  // finalizers (which free the objects' C++ parts) must still get the
+  // memory to run, or those parts leak. Only the time limit applies now.
+  if (allocator_) allocator_->setLimit(0);
   lua_close(L_);
   watchdog_.disarm();
 }

@@ -64,14 +64,7 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
 
 /// --info: what a render farm needs to split the work.
 int printInfo(const Options &opt) {
-  ScriptOptions scriptOptions;
-  scriptOptions.unsafe = opt.unsafe;
-  scriptOptions.timeoutSeconds = opt.scriptTimeout;
-  scriptOptions.memoryLimitBytes = opt.scriptMemory;
-  scriptOptions.allowRead = opt.allowRead;
-  scriptOptions.maxFileBytes = opt.maxFileBytes;
-  scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
-  SceneScript script(opt.scenePath, scriptOptions);
+  SceneScript script(opt.scenePath, scriptOptionsOf(opt));
   const SceneInfo info = effectiveSceneInfo(script.info(), opt);
   const FrameSettings s = samplingSettings(info, opt);
   std::printf("{\"frames\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,\"adaptive\":%s,"
@@ -100,16 +93,8 @@ int run(const Options &opt) {
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                   static_cast<size_t>(threads));
 
-  ScriptOptions scriptOptions;
-  scriptOptions.unsafe = opt.unsafe;
-  scriptOptions.timeoutSeconds = opt.scriptTimeout;
-  scriptOptions.memoryLimitBytes = opt.scriptMemory;
-  scriptOptions.allowRead = opt.allowRead;
-  scriptOptions.maxFileBytes = opt.maxFileBytes;
-  scriptOptions.maxPixels = static_cast<uint64_t>(opt.maxPixels);
-  scriptOptions.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
   auto t0 = std::chrono::steady_clock::now();
-  SceneScript script(opt.scenePath, scriptOptions);
+  SceneScript script(opt.scenePath, scriptOptionsOf(opt));
   stats.loadSeconds = secondsSince(t0);
   const SceneInfo info = effectiveSceneInfo(script.info(), opt);
 
@@ -206,6 +191,18 @@ int run(const Options &opt) {
 }
 
 } // namespace
+
+ScriptOptions scriptOptionsOf(const Options &opt) {
+  ScriptOptions s;
+  s.unsafe = opt.unsafe;
+  s.timeoutSeconds = opt.scriptTimeout;
+  s.memoryLimitBytes = opt.scriptMemory;
+  s.allowRead = opt.allowRead;
+  s.maxFileBytes = opt.maxFileBytes;
+  s.maxPixels = static_cast<uint64_t>(opt.maxPixels);
+  s.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
+  return s;
+}
 
 std::string frameFileName(const std::string &stem, int frame, int frameCount, ImageFormat format) {
   std::string ext = formatExtension(format);

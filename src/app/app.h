@@ -4,6 +4,7 @@
 #pragma once
 
 #include "app/options.h"
+#include "bindings/scene_script.h"
 #include "scene/scene.h"
 
 #include <string>
@@ -13,6 +14,9 @@ namespace lray {
 /// Runs lray; returns the process exit status (0 ok, 1 render or scene
 /// error, 2 usage error). Errors are printed to stderr as one paragraph.
 int runLray(int argc, const char *const *argv);
+
+/// The script limits and sandbox the options ask for.
+ScriptOptions scriptOptionsOf(const Options &options);
 
 /// File name of frame `frame` of a scene: <stem>.<ext> for one frame,
 /// <stem>NNNN.<ext> for an animation.

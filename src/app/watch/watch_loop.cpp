@@ -39,17 +39,6 @@ extern "C" void onStopSignal(int) {
   std::signal(SIGTERM, SIG_DFL);
 }
 
-ScriptOptions scriptOptionsOf(const Options &opt) {
-  ScriptOptions s;
-  s.unsafe = opt.unsafe;
-  s.timeoutSeconds = opt.scriptTimeout;
-  s.memoryLimitBytes = opt.scriptMemory;
-  s.allowRead = opt.allowRead;
-  s.maxFileBytes = opt.maxFileBytes;
-  s.maxPixels = static_cast<uint64_t>(opt.maxPixels);
-  s.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
-  return s;
-}
 
 /// One render of the scene as it is on disk now.
 class Render {

@@ -113,7 +113,10 @@ int tostringThunk(lua_State *L) {
 
 int gcThunk(lua_State *L) {
   if (ObjHeader *h = objHeader(L, 1)) {
-    if (h->cls->destroy) h->cls->destroy(payload(h));
+    if (h->cls->destroy) {
+      BindingContext::of(L).liveObjects.erase(h);
+      h->cls->destroy(payload(h));
+    }
     h->magic = 0; // a resurrected reference can no longer be used
   }
   return 0;
@@ -207,6 +210,15 @@ void BindingContext::checkMemory(const char *what) const {
   throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
 }
 
+void BindingContext::destroyLiveObjects() {
+  for (ObjHeader *h : liveObjects) {
+    if (h->magic != kObjMagic) continue;
+    h->cls->destroy(payload(h));
+    h->magic = 0;
+  }
+  liveObjects.clear();
+}
+
 std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {
   namespace fs = std::filesystem;
   const std::string path = resolvePath(file);
@@ -247,6 +259,7 @@ void *pushNewObject(lua_State *L, const ClassInfo &cls) {
   void *p = payload(h);
   cls.construct(p);
   h->magic = kObjMagic;
+  if (cls.destroy) BindingContext::of(L).liveObjects.insert(h);
   if (cls.applyDefaults) cls.applyDefaults(cls, p);
   lua_rawgeti(L, LUA_REGISTRYINDEX, cls.metatableRef);
   lua_setmetatable(L, -2);

@@ -35,6 +35,7 @@
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -163,6 +164,13 @@ public:
   /// Every path resolveReadPath gave out (scripts, OBJ files, images,
   /// io.open), in order, once each: what `lray --watch` watches.
   mutable std::vector<std::string> filesRead;
+  /// Objects with a C++ destructor whose finalizer has not run yet. Lua 5.4
+  /// can free a finalizable object without calling its finalizer (seen
+  /// after an emergency collection at the memory limit), which would leak
+  /// its C++ parts: destroyLiveObjects() runs the rest before lua_close.
+  std::unordered_set<ObjHeader *> liveObjects;
+  /// Destroys every object in liveObjects (their finalizers then do nothing).
+  void destroyLiveObjects();
   std::shared_ptr<std::vector<std::string>> readLog; ///< ScriptOptions::readLog
 
   /// The state's allocator (set by ScriptState): its limit and the pool of

@@ -22,7 +22,9 @@ template <class P> P &params(PigmentObj &p) { return std::get<P>(p.pattern); }
 // so a missing image is reported at the line that names it.
 int newImagePigment(lua_State *L) {
   const auto &cls = *static_cast<const ClassInfo *>(lua_touserdata(L, lua_upvalueindex(2)));
-  std::string file;
+  // Both strings are kept between calls: pushNew below can raise a memory
+  // error, whose longjmp would skip a local string's destructor (a leak).
+  thread_local std::string file, path;
   try {
     file = LuaValue<std::string>::check(L, 1);
   } catch (const TypeMismatch &e) {
@@ -30,7 +32,7 @@ int newImagePigment(lua_State *L) {
   }
   if (lua_gettop(L) > 1) throwArgumentCount("ImagePigment2D", 1, lua_gettop(L));
   BindingContext &ctx = BindingContext::of(L);
-  std::string path = ctx.resolveReadPath(file, "ImagePigment2D");
+  path = ctx.resolveReadPath(file, "ImagePigment2D");
   if (!std::filesystem::is_regular_file(path) || !std::ifstream(path, std::ios::binary))
     throw ScriptError("ImagePigment2D: cannot read image '" + file + "' (looked for " + path + ")");
   PigmentObj &p = pushNew<PigmentObj>(L, cls);

@@ -71,17 +71,17 @@ int readable(lua_State *L) {
   const char *path = luaL_checkstring(L, 1);
   const char *what = luaL_checkstring(L, 2);
   bool failed = false;
-  {
-    std::string resolved;
-    try {
-      resolved = BindingContext::of(L).resolveReadPath(path, what);
-    } catch (const ScriptError &e) {
-      pushErrorMessage(L, e.what());
-      failed = true;
-    }
-    if (!failed) lua_pushlstring(L, resolved.data(), resolved.size());
-  } // strings destroyed before lua_error longjmps
+  // Kept between calls: lua_pushlstring can raise a memory error, whose
+  // longjmp would skip the destructor of a local string (a leak).
+  thread_local std::string resolved;
+  try {
+    resolved = BindingContext::of(L).resolveReadPath(path, what);
+  } catch (const ScriptError &e) {
+    pushErrorMessage(L, e.what());
+    failed = true;
+  }
   if (failed) return lua_error(L);
+  lua_pushlstring(L, resolved.data(), resolved.size());
   return 1;
 }
 

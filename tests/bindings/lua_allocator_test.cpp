@@ -75,7 +75,9 @@ TEST(ScriptMemoryLimit, ObjectsOfAStoppedScriptAreStillFreed) {
     const std::string source =
         "keep = {}\n"
         "for i = 1, 20 do keep[i] = Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1, 0} } } end\n"
-        "for i = 1, 20 do keep[20 + i] = Union { Sphere(), Cube() } end\n" +
+        "for i = 1, 20 do keep[20 + i] = Union { Sphere(), Cube() } end\n"
+        "pcall(function() return Mesh { vertices = keep } end)\n" // garbage with a finalizer
+        "pcall(function() return Mesh { vertices = keep } end)\n" +
         std::string(exhaust) + "\n";
     EXPECT_THROW(SceneScript::fromString(source, "limit.lua", ".", options), SceneError) << exhaust;
   }

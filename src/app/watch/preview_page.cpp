@@ -42,7 +42,7 @@ const std::string &previewPage() {
 </header>
 <main>
   <div id="error" role="alert"></div>
-  <div id="view"><img id="image" alt="the render" data-version="0"></div>
+  <div id="view"><img id="image" alt="" data-version="0" hidden></div>
   <div id="status">waiting for the first image</div>
   <div class="controls">
     <label id="frameBox" hidden>frame <input id="frame" type="range" min="0" max="0" value="0"><span id="frameNo">0</span></label>

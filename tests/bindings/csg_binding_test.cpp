@@ -12,14 +12,6 @@ namespace {
 
 class CsgBindingTest : public LuaFixture {
 protected:
-  std::string conversionError(const char *name) {
-    try {
-      convertGlobal(name);
-    } catch (const SceneError &e) {
-      return e.what();
-    }
-    return "no error";
-  }
   static const CsgTree &treeOf(const Entity &e) { return *std::get<Csg>(e.shape).tree; }
 };
 

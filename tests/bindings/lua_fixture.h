@@ -91,6 +91,16 @@ protected:
     return convertScene(*scene, state_->context());
   }
 
+  /// The SceneError text of converting global `name`, or "no error".
+  std::string conversionError(const char *name) {
+    try {
+      convertGlobal(name);
+    } catch (const SceneError &e) {
+      return e.what();
+    }
+    return "no error";
+  }
+
   lua_State *L() { return state_->state(); }
 
   std::unique_ptr<ScriptState> state_;

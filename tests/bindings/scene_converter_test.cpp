@@ -5,18 +5,7 @@
 namespace lray::lua {
 namespace {
 
-class SceneConverterTest : public LuaFixture {
-protected:
-  /// The SceneError text of converting global `name`, or "no error".
-  std::string conversionError(const char *name) {
-    try {
-      convertGlobal(name);
-    } catch (const SceneError &e) {
-      return e.what();
-    }
-    return "no error";
-  }
-};
+class SceneConverterTest : public LuaFixture {};
 
 TEST_F(SceneConverterTest, DefaultsForAnEmptyScene) {
   ASSERT_EQ(runLua("s = Scene()"), "");

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -117,38 +118,38 @@ std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channel
   return pixels;
 }
 
-void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb) {
+void writeAtomically(const std::string &path, const char *what,
+                     const std::function<std::string(const std::string &tmp)> &write) {
   static std::atomic<unsigned> counter{0};
   fs::path finalPath(path);
   // Keep the extension last: OpenImageIO picks the EXR writer from it.
   fs::path tmpPath = finalPath.parent_path() /
                      ("." + finalPath.stem().string() + ".tmp" + std::to_string(getpid()) + "_" +
                       std::to_string(counter++) + finalPath.extension().string());
-
   auto fail = [&](const std::string &why) {
     std::error_code ec;
     fs::remove(tmpPath, ec);
-    throw std::runtime_error("cannot write image '" + path + "': " + why);
+    throw std::runtime_error(std::string("cannot write ") + what + " '" + path + "': " + why);
   };
-
-  std::string why;
-  if (format == ImageFormat::Exr) {
-    std::vector<std::string> channels;
-    std::vector<float> pixels = exrPixels(film, channels);
-    why = oiioLibrary().writeFloat(tmpPath.string(), film.width(), film.height(), channels,
-                                   pixels.data());
-  } else {
-    std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
-    if (format == ImageFormat::Png) {
-      why = writePng(tmpPath.string(), film.width(), film.height(), bytes.data(), srgb);
-    } else if (!stbi_write_tga(tmpPath.c_str(), film.width(), film.height(), 3, bytes.data())) {
-      why = "cannot write the TGA file";
-    }
-  }
-  if (!why.empty()) fail(why);
+  if (std::string why = write(tmpPath.string()); !why.empty()) fail(why);
   std::error_code ec;
   fs::rename(tmpPath, finalPath, ec);
   if (ec) fail(ec.message());
+}
+
+void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb) {
+  writeAtomically(path, "image", [&](const std::string &tmp) -> std::string {
+    if (format == ImageFormat::Exr) {
+      std::vector<std::string> channels;
+      std::vector<float> pixels = exrPixels(film, channels);
+      return oiioLibrary().writeFloat(tmp, film.width(), film.height(), channels, pixels.data());
+    }
+    std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
+    if (format == ImageFormat::Png) return writePng(tmp, film.width(), film.height(), bytes.data(), srgb);
+    if (!stbi_write_tga(tmp.c_str(), film.width(), film.height(), 3, bytes.data()))
+      return "cannot write the TGA file";
+    return {};
+  });
 }
 
 } // namespace lray

@@ -5,6 +5,7 @@
 #include "render/film.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,13 @@ std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channel
 /// The PNG file of `film` in memory, as writeImage would write it (the
 /// live preview serves it).
 std::vector<uint8_t> encodePng(const Film &film, bool srgb);
+
+/// Writes a file under a temporary name in `path`'s folder (`write` gets
+/// that name and returns "" or why it failed), then renames it over `path`:
+/// a final name never holds a half-written file. Throws std::runtime_error
+/// "cannot write <what> '<path>': ..." and removes the temporary file.
+void writeAtomically(const std::string &path, const char *what,
+                     const std::function<std::string(const std::string &tmp)> &write);
 
 /// Writes `film` to `path` in `format`: PNG/TGA 8 bits per channel (clamped,
 /// rounded; sRGB-encoded when `srgb`), EXR 32-bit float unclamped. Writes a

@@ -7,11 +7,8 @@
 #include <fmt/format.h>
 #include <stb/stb_image.h>
 
-#include <atomic>
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
-#include <unistd.h>
 
 namespace lray {
 
@@ -86,20 +83,9 @@ void writeTile(const Film &film, const TileHeader &header, const std::string &pa
                       {kEncoding, header.srgb ? "srgb" : "linear"},
                       {kRender, header.render}};
 
-  static std::atomic<unsigned> counter{0};
-  const fs::path finalPath(path);
-  const fs::path tmp = finalPath.parent_path() /
-                       ("." + finalPath.stem().string() + ".tmp" + std::to_string(getpid()) + "_" +
-                        std::to_string(counter++) + ".exr");
-  auto fail = [&](const std::string &why) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot write tile '" + path + "': " + why);
-  };
-  if (std::string why = oiioLibrary().writeFloatWindow(tmp.string(), image); !why.empty()) fail(why);
-  std::error_code ec;
-  fs::rename(tmp, finalPath, ec);
-  if (ec) fail(ec.message());
+  writeAtomically(path, "tile", [&](const std::string &tmp) {
+    return oiioLibrary().writeFloatWindow(tmp, image);
+  });
 }
 
 Tile readTile(const std::string &path) {

@@ -9,15 +9,21 @@
 
 namespace lray::lua {
 
-std::string LuaAllocator::limitMessage() const {
-  char size[32];
-  if (limit_ >= (size_t{1} << 30) && limit_ % (size_t{1} << 30) == 0)
-    std::snprintf(size, sizeof size, "%zu GiB", limit_ >> 30);
-  else if (limit_ >= (size_t{1} << 20) && limit_ % (size_t{1} << 20) == 0)
-    std::snprintf(size, sizeof size, "%zu MiB", limit_ >> 20);
+std::string LuaAllocator::formatBytes(size_t bytes) {
+  char text[32];
+  if (bytes >= (size_t{1} << 30) && bytes % (size_t{1} << 30) == 0)
+    std::snprintf(text, sizeof text, "%zu GiB", bytes >> 30);
+  else if (bytes >= (size_t{1} << 20) && bytes % (size_t{1} << 20) == 0)
+    std::snprintf(text, sizeof text, "%zu MiB", bytes >> 20);
+  else if (bytes >= (size_t{1} << 10) && bytes % (size_t{1} << 10) == 0)
+    std::snprintf(text, sizeof text, "%zu KiB", bytes >> 10);
   else
-    std::snprintf(size, sizeof size, "%zu bytes", limit_);
-  return std::string("the script needed more than ") + size +
+    std::snprintf(text, sizeof text, "%zu bytes", bytes);
+  return text;
+}
+
+std::string LuaAllocator::limitMessage() const {
+  return "the script needed more than " + formatBytes(limit_) +
          " of memory and was stopped (raise the limit with --script-memory)";
 }
 
@@ -77,11 +83,13 @@ void *LuaAllocator::allocate(void *ud, void *ptr, size_t oldSize, size_t newSize
     }
     return nullptr;
   }
-  if (self.limit_ && newSize > oldSize &&
-      self.inUse_ + self.external_->bytes.load(std::memory_order_relaxed) + (newSize - oldSize) >
-          self.limit_) {
-    self.refused_ = true;
-    return nullptr;
+  if (self.limit_ && newSize > oldSize && !self.deferred_) {
+    // Compared as room left, so a request near SIZE_MAX cannot wrap around.
+    const size_t held = self.inUse_ + self.external_->bytes.load(std::memory_order_relaxed);
+    if (held >= self.limit_ || newSize - oldSize > self.limit_ - held) {
+      self.refused_ = true;
+      return nullptr;
+    }
   }
   if (ptr && oldSmall && newSmall && sizeClass(oldSize) == sizeClass(newSize)) {
     self.inUse_ += newSize - oldSize;

@@ -38,6 +38,14 @@ public:
   /// "the script needed more than <limit> of memory and was stopped (...)":
   /// the one message for a script past the limit, whoever noticed it.
   std::string limitMessage() const;
+  /// "2 GiB", "512 KiB", "1000 bytes": a size as the user would write it.
+  static std::string formatBytes(size_t bytes);
+  /// While deferred (nests), growth past the limit is granted, not refused:
+  /// see DeferredMemoryLimit in lua_binding.h.
+  void deferLimit() { ++deferred_; }
+  void restoreLimit() { deferred_ -= deferred_ > 0; }
+  /// Ends every deferral (one left open by a longjmp).
+  void clearDeferrals() { deferred_ = 0; }
   /// Whether a request was refused since the last call (and clears it).
   bool takeRefused() {
     bool r = refused_;
@@ -66,6 +74,7 @@ private:
   size_t inUse_ = 0;
   size_t limit_ = 0;
   bool refused_ = false;
+  int deferred_ = 0;
   std::shared_ptr<ExternalMemory> external_ = std::make_shared<ExternalMemory>();
 };
 

@@ -113,10 +113,7 @@ int tostringThunk(lua_State *L) {
 
 int gcThunk(lua_State *L) {
   if (ObjHeader *h = objHeader(L, 1)) {
-    if (h->cls->destroy) {
-      BindingContext::of(L).liveObjects.erase(h);
-      h->cls->destroy(payload(h));
-    }
+    if (h->cls->destroy) BindingContext::of(L).destroyObjectOf(h);
     h->magic = 0; // a resurrected reference can no longer be used
   }
   return 0;
@@ -210,12 +207,29 @@ void BindingContext::checkMemory(const char *what) const {
   throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
 }
 
+namespace {
+
+void freeObject(BindingContext &ctx, void *object, const ClassInfo &cls) {
+  cls.destroy(object);
+  ::operator delete(object);
+  if (ctx.allocator) ctx.allocator->external()->bytes -= cls.size;
+}
+
+} // namespace
+
+void BindingContext::destroyObjectOf(const ObjHeader *h) {
+  auto it = liveObjects.find(h->object);
+  // Not there, or another userdata's: destroyLiveObjects() already freed
+  // this one's object (and the address may have been reused since).
+  if (it == liveObjects.end() || it->second.holder != h) return;
+  const ClassInfo &cls = *it->second.cls;
+  liveObjects.erase(it);
+  freeObject(*this, h->object, cls);
+}
+
 void BindingContext::destroyLiveObjects() {
-  for (ObjHeader *h : liveObjects) {
-    if (h->magic != kObjMagic) continue;
-    h->cls->destroy(payload(h));
-    h->magic = 0;
-  }
+  // Never reads the holders: they may have been freed.
+  for (auto &[object, live] : liveObjects) freeObject(*this, object, *live.cls);
   liveObjects.clear();
 }
 
@@ -252,14 +266,38 @@ std::string BindingContext::resolveReadPath(const std::string &file, const char 
 // ---- objects and messages --------------------------------------------------------
 
 void *pushNewObject(lua_State *L, const ClassInfo &cls) {
-  void *mem = lua_newuserdatauv(L, kPayloadOffset + cls.size, cls.userValues);
+  const size_t inlineBytes = cls.destroy ? 0 : cls.size;
+  void *mem = lua_newuserdatauv(L, kPayloadOffset + inlineBytes, cls.userValues);
   auto *h = static_cast<ObjHeader *>(mem);
   h->magic = 0;
   h->cls = &cls;
-  void *p = payload(h);
-  cls.construct(p);
+  if (!cls.destroy) {
+    h->object = static_cast<char *>(mem) + kPayloadOffset;
+  } else {
+    BindingContext &ctx = BindingContext::of(L);
+    // Charged like the Lua heap: a script cannot hold more than its limit
+    // in objects whose bulk lives outside it.
+    ctx.checkMemory(cls.name.c_str());
+    void *object = ::operator new(cls.size);
+    try {
+      cls.construct(object);
+    } catch (...) {
+      ::operator delete(object);
+      throw;
+    }
+    try {
+      ctx.liveObjects.emplace(object, BindingContext::LiveObject{&cls, h});
+    } catch (...) {
+      cls.destroy(object);
+      ::operator delete(object);
+      throw;
+    }
+    h->object = object;
+    if (ctx.allocator) ctx.allocator->external()->bytes += cls.size;
+  }
+  if (!cls.destroy) cls.construct(h->object);
+  void *p = h->object;
   h->magic = kObjMagic;
-  if (cls.destroy) BindingContext::of(L).liveObjects.insert(h);
   if (cls.applyDefaults) cls.applyDefaults(cls, p);
   lua_rawgeti(L, LUA_REGISTRYINDEX, cls.metatableRef);
   lua_setmetatable(L, -2);
@@ -320,6 +358,11 @@ void pushErrorMessage(lua_State *L, const char *message) {
     lua_pushfstring(L, "%s: %s", loc.str().c_str(), message);
   else
     lua_pushstring(L, message);
+}
+
+std::string &pendingErrorText() {
+  thread_local std::string text;
+  return text;
 }
 
 void throwArgumentError(const char *context, int index, const TypeMismatch &e) {

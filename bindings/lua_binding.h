@@ -16,6 +16,7 @@
 #pragma once
 
 #include "bindings/affine.h"
+#include "bindings/lua_allocator.h"
 #include "math/color.h"
 #include "math/transform.h"
 #include "math/vec3.h"
@@ -84,10 +85,15 @@ template <class T> const void *typeTag() {
 }
 
 /// Every userdata made by this layer starts with this header; the magic
-/// number tells it apart from foreign userdata (io file handles).
+/// number tells it apart from foreign userdata (io file handles). `object`
+/// is the C++ object: right after the header for trivially destructible
+/// classes, on the C++ heap for the others (BindingContext::liveObjects
+/// owns those, so a userdata Lua frees without running its finalizer
+/// leaves nothing to read or leak).
 struct ObjHeader {
   uint64_t magic;
   const ClassInfo *cls;
+  void *object;
 };
 inline constexpr uint64_t kObjMagic = 0x4c52617955644f62ull;
 inline constexpr size_t kPayloadOffset = sizeof(ObjHeader);
@@ -164,18 +170,28 @@ public:
   /// Every path resolveReadPath gave out (scripts, OBJ files, images,
   /// io.open), in order, once each: what `lray --watch` watches.
   mutable std::vector<std::string> filesRead;
-  /// Objects with a C++ destructor whose finalizer has not run yet. Lua 5.4
-  /// can free a finalizable object without calling its finalizer (seen
-  /// after an emergency collection at the memory limit), which would leak
-  /// its C++ parts: destroyLiveObjects() runs the rest before lua_close.
-  std::unordered_set<ObjHeader *> liveObjects;
-  /// Destroys every object in liveObjects (their finalizers then do nothing).
+  /// The C++ objects of classes with a destructor, by address, with the
+  /// userdata that holds each. They live on the C++ heap, not in the
+  /// userdata: Lua 5.4 can free a finalizable userdata without calling its
+  /// finalizer (after an emergency collection at the memory limit postponed
+  /// it, or when the finalizer call itself ran out of memory), so the
+  /// userdata may be gone while its object is still here;
+  /// destroyLiveObjects() destroys what finalizers did not.
+  struct LiveObject {
+    const ClassInfo *cls;
+    const ObjHeader *holder;
+  };
+  std::unordered_map<void *, LiveObject> liveObjects;
+  /// Destroys and frees every object in liveObjects.
   void destroyLiveObjects();
+  /// The finalizer's half: destroys `h`'s object if it is still live and
+  /// still held by `h`.
+  void destroyObjectOf(const ObjHeader *h);
   std::shared_ptr<std::vector<std::string>> readLog; ///< ScriptOptions::readLog
 
   /// The state's allocator (set by ScriptState): its limit and the pool of
   /// memory held outside the Lua heap (external_memory.h).
-  const class LuaAllocator *allocator = nullptr;
+  LuaAllocator *allocator = nullptr;
   /// --max-file-size: the largest OBJ file mesh_from_obj reads.
   uint64_t maxFileBytes = uint64_t{1} << 30;
   /// Throws ScriptError naming `what` when the script's memory, Lua heap and
@@ -210,7 +226,7 @@ inline ObjHeader *objHeader(lua_State *L, int i) {
   auto *h = static_cast<ObjHeader *>(lua_touserdata(L, i));
   return h->magic == kObjMagic ? h : nullptr;
 }
-inline void *payload(ObjHeader *h) { return reinterpret_cast<char *>(h) + kPayloadOffset; }
+inline void *payload(ObjHeader *h) { return h->object; }
 
 /// The C++ object at stack index i if it is of type T, else null.
 template <class T> T *toObject(lua_State *L, int i) {
@@ -357,15 +373,62 @@ template <class R> void pushResult(lua_State *L, R &&r) {
 /// Pushes "file:line: message" using the innermost user-script frame.
 void pushErrorMessage(lua_State *L, const char *message);
 
-/// Runs f(); a C++ exception becomes a Lua error. lua_error is called only
-/// after every C++ object of the call is destroyed (Lua longjmps).
+/// While C++ code of the binding layer runs, the script's memory limit does
+/// not refuse allocations: a refusal is a Lua memory error, whose longjmp
+/// would skip the destructors of the call's C++ objects (a leak a script
+/// could repeat in a loop, or worse). protectedCall checks the limit when
+/// the C++ code is done instead; one call can overshoot it by what it
+/// allocates itself. Nests; ScriptState clears it before each script call
+/// (a longjmp out of a call that true out-of-memory caused skips the end).
+class DeferredMemoryLimit {
+public:
+  explicit DeferredMemoryLimit(BindingContext &ctx) : allocator_(ctx.allocator) {
+    if (allocator_) allocator_->deferLimit();
+  }
+  ~DeferredMemoryLimit() {
+    if (allocator_) allocator_->restoreLimit();
+  }
+  DeferredMemoryLimit(const DeferredMemoryLimit &) = delete;
+  DeferredMemoryLimit &operator=(const DeferredMemoryLimit &) = delete;
+  /// The limit's message if the script's memory is past it, else empty.
+  std::string exceeded() const {
+    return allocator_ && allocator_->overLimit() ? allocator_->limitMessage() : std::string();
+  }
+
+private:
+  LuaAllocator *allocator_;
+};
+
+/// Where protectedCall keeps an error's text between its catch block and
+/// the push (a longjmp out of a catch block would corrupt the C++ runtime's
+/// exception state).
+std::string &pendingErrorText();
+
+/// Runs f(); a C++ exception, or the script's memory past its limit after
+/// f() returned, becomes a Lua error. lua_error is called only after every
+/// C++ object of the call is destroyed (Lua longjmps), and nothing in
+/// between can raise a Lua error (see DeferredMemoryLimit).
 template <class F> int protectedCall(lua_State *L, F &&f) {
-  try {
-    return f();
-  } catch (const std::bad_alloc &) {
-    lua_pushliteral(L, "out of memory");
-  } catch (const std::exception &e) {
-    pushErrorMessage(L, e.what());
+  {
+    DeferredMemoryLimit deferred(BindingContext::of(L));
+    std::string &error = pendingErrorText();
+    try {
+      const int results = f();
+      error = deferred.exceeded();
+      if (error.empty()) return results;
+    } catch (const std::bad_alloc &) {
+      error.clear(); // only what cannot fail here
+    } catch (const std::exception &e) {
+      try {
+        error = e.what();
+      } catch (const std::bad_alloc &) {
+        error.clear();
+      }
+    }
+    if (error.empty())
+      lua_pushliteral(L, "out of memory");
+    else
+      pushErrorMessage(L, error.c_str());
   }
   return lua_error(L);
 }

@@ -15,6 +15,11 @@ namespace lray::lua {
 namespace {
 
 int traceback(lua_State *L) {
+  // Past the memory limit the message says all, and building a traceback
+  // would only meet the limit again.
+  if (const LuaAllocator *allocator = BindingContext::of(L).allocator;
+      allocator && allocator->overLimit() && lua_type(L, 1) == LUA_TSTRING)
+    return 1;
   const char *message = lua_tostring(L, 1);
   if (!message) {
     if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) return 1;
@@ -27,6 +32,9 @@ int traceback(lua_State *L) {
 void timeoutHook(lua_State *L, lua_Debug *) {
   BindingContext &ctx = BindingContext::of(L);
   ctx.lastSeen = ctx.currentLocation(L);
+  // Script code runs: no binding call is under way, so a deferral still
+  // open was left by a longjmp (true out-of-memory) and must end.
+  if (ctx.allocator) ctx.allocator->clearDeferrals();
   if (std::chrono::steady_clock::now() <= ctx.deadline) return;
   {
     std::string message = "the script ran longer than " + formatNumber(ctx.timeoutSeconds) +
@@ -55,7 +63,6 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
   lua_atpanic(L_, &panic);
   ctx_->attach(L_);
   ctx_->timeoutSeconds = options.timeoutSeconds;
-  allocator_->setLimit(static_cast<size_t>(options.memoryLimitBytes));
   ctx_->allocator = allocator_.get();
   ctx_->maxFileBytes = options.maxFileBytes;
   ctx_->readLog = options.readLog;
@@ -85,6 +92,15 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
   lua_sethook(L_, &timeoutHook, LUA_MASKCOUNT, kHookInstructions);
   try {
     run(kPreludeSource, ctx_->preludeSource);
+    // The limit is the script's: LRay's own libraries and prelude are set
+    // up without it (opening them outside a protected call cannot fail
+    // cleanly), then count against it.
+    const auto limit = static_cast<size_t>(options.memoryLimitBytes);
+    if (limit && allocator_->bytesInUse() >= limit)
+      throw SceneError("--script-memory: " + LuaAllocator::formatBytes(limit) +
+                       " is less than the memory LRay's own libraries take (" +
+                       LuaAllocator::formatBytes(allocator_->bytesInUse()) + ")");
+    allocator_->setLimit(limit);
   } catch (...) {
     ctx_->destroyLiveObjects();
     lua_close(L_); // the destructor does not run for a failed constructor
@@ -127,6 +143,7 @@ void ScriptState::protectedCall(int nargs, int nresults) {
   armDeadline("a library call");
   ctx_->lastSeen = {};
   allocator_->takeRefused(); // a refusal from an earlier call is not this one's
+  allocator_->clearDeferrals();
   int status = lua_pcall(L_, nargs, nresults, handler);
   ctx_->deadline = std::chrono::steady_clock::time_point::max();
   watchdog_.disarm();

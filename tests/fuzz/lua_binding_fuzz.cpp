@@ -15,7 +15,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace {
 
@@ -26,6 +30,32 @@ const char *const kConstructors[] = {
     "UVMap", "SphericalMap", "CylindricalMap", "TextureMap3D", "LinearMap", "Perspective", "Scene",
     "SceneInfo", "Floor", "grey", "mesh_from_obj", "tostring", "type", "getmetatable", "Union",
     "Merge", "Intersection", "Difference"};
+
+/// The scene's folder, made once per process: the sandbox refuses a
+/// folder that does not exist (every input then stopped before its first
+/// statement), and mesh_from_obj and ImagePigment2D get real files to read.
+char gBaseDir[] = "/tmp/lray-binding-fuzz-XXXXXX";
+
+void removeBaseDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(gBaseDir, ec);
+}
+
+const char *baseDir() {
+  static const bool made = [] {
+    if (!mkdtemp(gBaseDir)) std::abort();
+    std::atexit(&removeBaseDir);
+    const std::string dir = gBaseDir;
+    std::ofstream(dir + "/mesh.obj")
+        << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    std::ofstream(dir + "/texture.ppm", std::ios::binary)
+        << "P6\n2 2\n255\n"
+        << std::string("\xff\x00\x00\x00\xff\x00\x00\x00\xff\xff\xff\xff", 12);
+    return true;
+  }();
+  (void)made;
+  return gBaseDir;
+}
 
 const char *const kCsgClasses[] = {"Union", "Merge", "Intersection", "Difference"};
 
@@ -51,7 +81,8 @@ const char *const kLiterals[] = {
     "{{{1, 1, 1}, {2, 2, 2}, {3, 3, 3}}}", "{{0, 0}, {1, 0}, {0, 1}}", "{{1, nil, 1}}",
     "{{0, 0, 1}}", "function() end", "x", "y", "z", "origin", "white", "black", "red",
     "{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}", "{{1, 2, 3, 4}}", "{{-1, 2, 3}}", "{{1, 2, 99}}",
-    "{{1e30, 0, 0}, {0, 1e30, 0}, {0, 0, 1e30}}", "{{1.5, 2, 3}}"};
+    "{{1e30, 0, 0}, {0, 1e30, 0}, {0, 0, 1e30}}", "{{1.5, 2, 3}}", "'mesh.obj'",
+    "'texture.ppm'"};
 
 class Writer {
 public:
@@ -200,7 +231,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   // it costs nothing. (A cap of 4096 pixels made the default 800x600
   // SceneInfo fail every input before buildFrame.)
   try {
-    lray::SceneScript script = lray::SceneScript::fromString(source, "fuzz.lua", "/nonexistent", options);
+    lray::SceneScript script = lray::SceneScript::fromString(source, "fuzz.lua", baseDir(), options);
     lray::Scene scene = script.buildFrame(script.info().startClock);
     checkScene(scene);
   } catch (const lray::SceneError &) {

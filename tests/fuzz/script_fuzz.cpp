@@ -1017,18 +1017,17 @@ const char kCheck[] = "if escaped_ then error('SANDBOX_ESCAPE: ' .. escaped_, 0)
 /// that grows a table, the Lua stack or a buffer meets the limit within a
 /// few milliseconds (a fuzzer spends most of its time in the slowest
 /// inputs); 4, 16 and 64 MiB, more rarely, for big strings and the real
-/// Lua stack overflow; 256 KiB makes the limit bite in the bindings' own
-/// allocations. Not below 64 KiB: there the standard libraries fail to
-/// load outside any protected call and lray aborts ("unprotected Lua
-/// error", ScriptState's constructor), a known bug reported with this
-/// target that would end every such input.
+/// Lua stack overflow; 160 to 256 KiB makes the limit bite in the bindings'
+/// own allocations and in finalizer calls; 32 KiB is below what LRay's
+/// libraries take (a clean error, once an abort).
 uint64_t memoryLimit(FuzzedDataProvider &in) {
   constexpr uint64_t kKiB = 1024, kMiB = kKiB << 10;
   const int draw = in.ConsumeIntegralInRange(0, 99);
   if (draw < 1) return 64 * kMiB;
   if (draw < 3) return 16 * kMiB;
   if (draw < 10) return 4 * kMiB;
-  if (draw < 25) return 256 * kKiB;
+  if (draw < 11) return 32 * kKiB;
+  if (draw < 25) return (160 + 16 * in.ConsumeIntegralInRange(0, 6)) * kKiB;
   return 1 * kMiB;
 }
 

@@ -159,6 +159,32 @@ TEST_F(Hostile, AMeshRebuiltEveryFrameDoesNotAccumulateCharges) {
   EXPECT_EQ(o.status, 0) << o.output;
 }
 
+TEST_F(Hostile, AScriptMemoryLimitBelowLraysOwnLibrariesIsReadable) {
+  const std::string s = write("tiny.lua", "local x = 1" + kScene);
+  for (const char *limit : {"1", "1K", "32K"})
+    expectRefused({s, out(), "--script-memory", limit}, 1,
+                  " is less than the memory LRay's own libraries take (", 10, 200);
+}
+
+// Finalizer calls that fail for lack of memory (Lua then frees the userdata
+// without them): the objects are still freed, nothing reads the freed
+// memory (scripts/test runs this with the ASan lray too).
+TEST_F(Hostile, ObjectsWhoseFinalizerCallsFailedAreStillFreed) {
+  const std::string s = write(
+      "fin.lua", "for round = 1, 20 do pcall(function() for i = 1, 300 do local m = Mesh() end\n"
+                 "  local function f(n) return 1 + f(n + 1) end return f(1) end) end" + kScene);
+  for (const char *limit : {"176K", "192K", "208K", "256K"}) {
+    const Outcome o = runLray({s, out(), "-q", "-w", "4", "-H", "4", "--script-memory", limit}, 20);
+    EXPECT_FALSE(o.timedOut) << limit;
+    // Stopped at the limit, or finished: either way a clean exit.
+    EXPECT_TRUE(o.status == 0 || o.status == 1) << limit << ": " << o.output;
+    if (o.status == 1) {
+      EXPECT_NE(o.output.find("fin.lua"), std::string::npos) << o.output;
+    }
+    EXPECT_EQ(o.output.find("Sanitizer"), std::string::npos) << o.output;
+  }
+}
+
 TEST_F(Hostile, OneHugeAllocationIsRefusedNamingTheScene) {
   const std::string s = write("big.lua", "local s = string.rep('x', 1.5e9)" + kScene);
   expectRefused({s, out(), "--script-memory", "256M"}, 1,

@@ -22,6 +22,7 @@
 #include <iterator>
 #include <memory>
 #include <new>
+#include <stdexcept>
 #include <unistd.h>
 
 namespace lray {
@@ -29,6 +30,15 @@ namespace lray {
 namespace fs = std::filesystem;
 
 namespace {
+
+/// What run() is doing, for the last-resort error handler: an error that
+/// is not a SceneError is a bug or a resource failure, and the user should
+/// learn at least what LRay was doing when it happened.
+std::string gActivity = "starting";
+
+void setActivity(std::string what) { gActivity = std::move(what); }
+
+
 
 // Creates the output folder and proves it is writable before any work is done.
 void prepareOutDir(const std::string &dir) {
@@ -94,6 +104,7 @@ int run(const Options &opt) {
                                   static_cast<size_t>(threads));
 
   auto t0 = std::chrono::steady_clock::now();
+  setActivity("loading the scene");
   SceneScript script(opt.scenePath, scriptOptionsOf(opt));
   stats.loadSeconds = secondsSince(t0);
   const SceneInfo info = effectiveSceneInfo(script.info(), opt);
@@ -163,6 +174,7 @@ int run(const Options &opt) {
         continue;
       }
     }
+    setActivity(fmt::format("rendering frame {}", frame));
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
     Film film = renderScriptFrame(
         script, info, frame, stats.backend, images, frameStats,
@@ -174,6 +186,7 @@ int run(const Options &opt) {
     warned = true;
 
     t0 = std::chrono::steady_clock::now();
+    setActivity("writing " + path);
     if (tiled)
       writeTile(film, {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window, fingerprint},
                 path);
@@ -186,11 +199,21 @@ int run(const Options &opt) {
   }
   stats.totalSeconds = secondsSince(start);
   stats.peakMemoryBytes = peakMemoryBytes();
+  setActivity("writing " + opt.statsPath);
   if (!opt.statsPath.empty()) writeTextAtomically(opt.statsPath, toJson(stats));
   return 0;
 }
 
 } // namespace
+
+std::string describeUnexpectedError(const std::exception &e) {
+  if (dynamic_cast<const std::bad_alloc *>(&e)) return "out of memory";
+  if (dynamic_cast<const std::length_error *>(&e)) return "a size too large to allocate";
+  if (dynamic_cast<const std::filesystem::filesystem_error *>(&e)) return e.what();
+  std::string what = e.what();
+  for (size_t at; (at = what.find("std::")) != std::string::npos;) what.erase(at, 5);
+  return "internal error (" + what + "); please report it with the scene";
+}
 
 ScriptOptions scriptOptionsOf(const Options &opt) {
   ScriptOptions s;
@@ -271,11 +294,12 @@ int runLray(int argc, const char *const *argv) {
     return run(*parsed.options);
   } catch (const SceneError &e) {
     std::fprintf(stderr, "lray: error: %s\n", e.what());
-  } catch (const std::bad_alloc &) {
-    // "std::bad_alloc" would tell the user nothing: say what ran out.
-    std::fprintf(stderr, "lray: error: %s: out of memory\n", parsed.options->scenePath.c_str());
   } catch (const std::exception &e) {
-    std::fprintf(stderr, "lray: error: %s\n", e.what());
+    std::fprintf(stderr, "lray: error: %s: %s: %s\n", parsed.options->scenePath.c_str(),
+                 gActivity.c_str(), describeUnexpectedError(e).c_str());
+  } catch (...) {
+    std::fprintf(stderr, "lray: error: %s: %s: an unknown error\n",
+                 parsed.options->scenePath.c_str(), gActivity.c_str());
   }
   return 1;
 }

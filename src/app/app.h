@@ -15,6 +15,11 @@ namespace lray {
 /// error, 2 usage error). Errors are printed to stderr as one paragraph.
 int runLray(int argc, const char *const *argv);
 
+/// The last-resort handler's account of an exception that is not a
+/// SceneError (a bug or a resource failure): readable, with no C++ library
+/// names ("out of memory", not "std::bad_alloc").
+std::string describeUnexpectedError(const std::exception &e);
+
 /// The script limits and sandbox the options ask for.
 ScriptOptions scriptOptionsOf(const Options &options);
 

@@ -1,8 +1,12 @@
 // Tests for src/app/options: the command line of SPEC 1.
 #include "app/options.h"
+#include "app/app.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <new>
+#include <stdexcept>
 #include <vector>
 
 namespace lray {
@@ -104,6 +108,21 @@ TEST(Options, UsageMessagesAreOneReadableLine) {
   std::string help = message({"--help"});
   EXPECT_EQ(help.find("->"), std::string::npos) << help;
   EXPECT_EQ(help.find("ENUM"), std::string::npos) << help;
+}
+
+// The last-resort handler never shows C++ library names to the user.
+TEST(UnexpectedError, IsDescribedWithoutLibraryNames) {
+  EXPECT_EQ(describeUnexpectedError(std::bad_alloc()), "out of memory");
+  EXPECT_EQ(describeUnexpectedError(std::bad_array_new_length()), "out of memory");
+  EXPECT_EQ(describeUnexpectedError(std::length_error("vector::_M_default_append")),
+            "a size too large to allocate");
+  const std::string range = describeUnexpectedError(
+      std::out_of_range("std::vector::_M_range_check: __n (which is 5) >= this->size()"));
+  EXPECT_EQ(range.find("std::"), std::string::npos) << range;
+  EXPECT_EQ(range.rfind("internal error (", 0), 0u) << range;
+  const std::string fsError = describeUnexpectedError(std::filesystem::filesystem_error(
+      "cannot create directory", "/no/such", std::make_error_code(std::errc::permission_denied)));
+  EXPECT_NE(fsError.find("/no/such"), std::string::npos) << fsError;
 }
 
 } // namespace

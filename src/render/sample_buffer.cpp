@@ -12,10 +12,12 @@ SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1
       count_(static_cast<size_t>(width) * height, 0),
       active_(static_cast<size_t>(width) * height, 1),
       inRegion_(static_cast<size_t>(width) * height, 1) {
-  if (x1 <= x0 || y1 <= y0) return;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      if (x < x0 || x >= x1 || y < y0 || y >= y1) active_[index(x, y)] = inRegion_[index(x, y)] = 0;
+  if (x1 > x0 && y1 > y0)
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        if (x < x0 || x >= x1 || y < y0 || y >= y1) active_[index(x, y)] = inRegion_[index(x, y)] = 0;
+  for (size_t i = 0; i < active_.size(); ++i)
+    if (active_[i]) activeList_.push_back(static_cast<uint32_t>(i));
 }
 
 bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
@@ -32,31 +34,28 @@ double SampleBuffer::error(size_t i) const {
 
 size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // Not converged, then dilated by one pixel so the neighbours of a noisy
-  // pixel (the other side of an edge, say) are not starved.
-  std::vector<uint8_t> noisy(active_.size(), 0);
-  for (size_t i = 0; i < noisy.size(); ++i)
-    noisy[i] = inRegion_[i] && count_[i] < maxSamples && (threshold <= 0 || error(i) >= threshold);
-  size_t active = 0;
-  for (int y = 0; y < height_; ++y) {
-    for (int x = 0; x < width_; ++x) {
-      const size_t i = index(x, y);
-      bool on = false;
-      for (int dy = -1; dy <= 1 && !on; ++dy) {
-        const int ny = y + dy;
-        if (ny < 0 || ny >= height_) continue;
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx;
-          if (nx >= 0 && nx < width_ && noisy[index(nx, ny)]) {
-            on = true;
-            break;
-          }
-        }
-      }
-      active_[i] = on && inRegion_[i] && count_[i] < maxSamples;
-      active += active_[i];
-    }
+  // pixel (the other side of an edge, say) are not starved. Only active
+  // pixels can be noisy: an inactive one had no noisy pixel around it, so
+  // was not noisy itself, and took no samples since. So the work is in
+  // proportion to the active pixels, not the frame.
+  std::vector<uint32_t> noisy;
+  for (uint32_t i : activeList_) {
+    active_[i] = 0;
+    if (count_[i] < maxSamples && (threshold <= 0 || error(i) >= threshold)) noisy.push_back(i);
   }
-  return active;
+  activeList_.clear();
+  for (uint32_t i : noisy) {
+    const int x = static_cast<int>(i % static_cast<uint32_t>(width_));
+    const int y = static_cast<int>(i / static_cast<uint32_t>(width_));
+    for (int ny = std::max(0, y - 1); ny <= std::min(height_ - 1, y + 1); ++ny)
+      for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) {
+        const size_t j = index(nx, ny);
+        if (active_[j] || !inRegion_[j] || count_[j] >= maxSamples) continue;
+        active_[j] = 1;
+        activeList_.push_back(static_cast<uint32_t>(j));
+      }
+  }
+  return activeList_.size();
 }
 
 void SampleBuffer::writeTo(Film &film) const {

@@ -58,6 +58,7 @@ private:
   std::vector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
   std::vector<uint32_t> count_;
   std::vector<uint8_t> active_;
+  std::vector<uint32_t> activeList_; ///< the indices of the active pixels
   std::vector<uint8_t> inRegion_;
 };
 

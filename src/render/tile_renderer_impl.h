@@ -67,6 +67,8 @@ template <class Accel> struct TileWork {
   std::array<Sampler, kTilePixels> samplers;
   std::array<Color, kTilePixels> colors;
   std::array<uint16_t, kTilePixels> pixelOf; ///< ray j belongs to tile pixel pixelOf[j]
+  std::array<uint32_t, kTilePixels> sampleOf; ///< ... and is its sample sampleOf[j]
+  std::array<uint16_t, kTilePixels> pixelList; ///< the tile pixels with samples to take
   std::array<Color, kTilePixels> sums, oddSums;
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
@@ -97,9 +99,13 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
 /// end, summing their colours into work.sums / work.oddSums. `position(x,
-/// y, s, sampler, px, py)` gives sample s's image position. Samples run by
-/// index across the tile, so each index's camera rays and shadow rays go to
-/// the backend as coherent batches.
+/// y, s, sampler, px, py)` gives sample s's image position. The (pixel,
+/// sample) pairs go to the backend in batches of up to kTilePixels camera
+/// rays, by sample index and then pixel: the whole tile at one index when
+/// every pixel samples, else the few pixels still sampling at several
+/// consecutive indices (neighbouring rays either way, so each batch's camera
+/// and shadow rays stay coherent, and the batches are always full). A
+/// pixel's samples are summed in index order, whatever the batches.
 template <class Accel, class Position>
 void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
@@ -107,30 +113,18 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
                 RayCounts &counts) {
   const size_t count = rect.pixels();
   uint32_t begin = end;
+  size_t sampling = 0; // work.pixelList[0, sampling): the pixels with samples to take
   for (size_t i = 0; i < count; ++i) {
     work.sums[i] = Color();
     work.oddSums[i] = Color();
     work.taken[i] = 0;
-    begin = std::min(begin, work.first[i]);
-  }
-  for (uint32_t s = begin; s < end; ++s) {
-    size_t rays = 0;
-    for (size_t i = 0; i < count; ++i) {
-      if (work.first[i] > s) continue;
-      const int x = rect.x(i), y = rect.y(i);
-      const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
-      Sampler &sampler = work.samplers[rays];
-      sampler = Sampler(settings.stream(), pixel, s);
-      if (spreadLight)
-        sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
-                               tile_detail::lightStratumOffset(settings.stream(), pixel);
-      double px, py;
-      position(x, y, pixel, s, sampler, px, py);
-      work.rays[rays] = camera.generate(px, py);
-      work.pixelOf[rays] = static_cast<uint16_t>(i);
-      ++rays;
+    if (work.first[i] < end) {
+      work.pixelList[sampling++] = static_cast<uint16_t>(i);
+      begin = std::min(begin, work.first[i]);
     }
-    if (rays == 0) continue;
+  }
+  size_t rays = 0;
+  auto trace = [&] {
     accel.intersectCoherent(work.rays.data(), rays, work.hits.data(), work.found.data());
     counts.camera += rays;
     integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
@@ -143,10 +137,31 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
       }
       const size_t i = work.pixelOf[j];
       work.sums[i] += c;
-      if (s & 1) work.oddSums[i] += c;
+      if (work.sampleOf[j] & 1) work.oddSums[i] += c;
       ++work.taken[i];
     }
+    rays = 0;
+  };
+  for (uint32_t s = begin; s < end; ++s) {
+    for (size_t k = 0; k < sampling; ++k) {
+      const size_t i = work.pixelList[k];
+      if (work.first[i] > s) continue;
+      const int x = rect.x(i), y = rect.y(i);
+      const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
+      Sampler &sampler = work.samplers[rays];
+      sampler = Sampler(settings.stream(), pixel, s);
+      if (spreadLight)
+        sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
+                               tile_detail::lightStratumOffset(settings.stream(), pixel);
+      double px, py;
+      position(x, y, pixel, s, sampler, px, py);
+      work.rays[rays] = camera.generate(px, py);
+      work.pixelOf[rays] = static_cast<uint16_t>(i);
+      work.sampleOf[rays] = s;
+      if (++rays == tile_detail::kTilePixels) trace();
+    }
   }
+  if (rays) trace();
 }
 
 /// Fills the film's depth, normal and albedo layers: a 4 x 4 grid of camera

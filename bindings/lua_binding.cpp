@@ -209,28 +209,33 @@ void BindingContext::checkMemory(const char *what) const {
 
 namespace {
 
-void freeObject(BindingContext &ctx, void *object, const ClassInfo &cls) {
-  cls.destroy(object);
-  ::operator delete(object);
-  if (ctx.allocator) ctx.allocator->external()->bytes -= cls.size;
+void unlinkAndFree(BindingContext &ctx, HeapObject *o) {
+  o->prev->next = o->next;
+  o->next->prev = o->prev;
+  const ClassInfo &cls = *o->cls;
+  cls.destroy(o->object());
+  ::operator delete(o);
+  if (ctx.allocator) ctx.allocator->external()->bytes -= sizeof(HeapObject) + cls.size;
 }
 
 } // namespace
 
+void BindingContext::linkObject(HeapObject *o) {
+  o->prev = &liveObjects_;
+  o->next = liveObjects_.next;
+  liveObjects_.next->prev = o;
+  liveObjects_.next = o;
+}
+
 void BindingContext::destroyObjectOf(const ObjHeader *h) {
-  auto it = liveObjects.find(h->object);
-  // Not there, or another userdata's: destroyLiveObjects() already freed
-  // this one's object (and the address may have been reused since).
-  if (it == liveObjects.end() || it->second.holder != h) return;
-  const ClassInfo &cls = *it->second.cls;
-  liveObjects.erase(it);
-  freeObject(*this, h->object, cls);
+  if (h->generation != objectGeneration) return; // destroyLiveObjects() freed it
+  unlinkAndFree(*this, HeapObject::of(h->object));
 }
 
 void BindingContext::destroyLiveObjects() {
-  // Never reads the holders: they may have been freed.
-  for (auto &[object, live] : liveObjects) freeObject(*this, object, *live.cls);
-  liveObjects.clear();
+  // Never reads the userdata: they may have been freed.
+  while (liveObjects_.next != &liveObjects_) unlinkAndFree(*this, liveObjects_.next);
+  ++objectGeneration;
 }
 
 std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {
@@ -278,22 +283,18 @@ void *pushNewObject(lua_State *L, const ClassInfo &cls) {
     // Charged like the Lua heap: a script cannot hold more than its limit
     // in objects whose bulk lives outside it.
     ctx.checkMemory(cls.name.c_str());
-    void *object = ::operator new(cls.size);
+    auto *o = static_cast<HeapObject *>(::operator new(sizeof(HeapObject) + cls.size));
+    o->cls = &cls;
     try {
-      cls.construct(object);
+      cls.construct(o->object());
     } catch (...) {
-      ::operator delete(object);
+      ::operator delete(o);
       throw;
     }
-    try {
-      ctx.liveObjects.emplace(object, BindingContext::LiveObject{&cls, h});
-    } catch (...) {
-      cls.destroy(object);
-      ::operator delete(object);
-      throw;
-    }
-    h->object = object;
-    if (ctx.allocator) ctx.allocator->external()->bytes += cls.size;
+    ctx.linkObject(o);
+    h->object = o->object();
+    h->generation = ctx.objectGeneration;
+    if (ctx.allocator) ctx.allocator->external()->bytes += sizeof(HeapObject) + cls.size;
   }
   if (!cls.destroy) cls.construct(h->object);
   void *p = h->object;

@@ -87,13 +87,25 @@ template <class T> const void *typeTag() {
 /// Every userdata made by this layer starts with this header; the magic
 /// number tells it apart from foreign userdata (io file handles). `object`
 /// is the C++ object: right after the header for trivially destructible
-/// classes, on the C++ heap for the others (BindingContext::liveObjects
-/// owns those, so a userdata Lua frees without running its finalizer
-/// leaves nothing to read or leak).
+/// classes, on the C++ heap for the others (BindingContext owns those, so
+/// a userdata Lua frees without running its finalizer leaves nothing to
+/// read or leak); `generation` is BindingContext::objectGeneration when
+/// the object was made.
 struct ObjHeader {
   uint64_t magic;
   const ClassInfo *cls;
   void *object;
+  uint64_t generation;
+};
+
+/// What precedes a heap-held object: its links in BindingContext's list of
+/// live objects and its class.
+struct HeapObject {
+  HeapObject *prev, *next;
+  const ClassInfo *cls;
+  uint64_t pad; ///< keeps the object 16-byte aligned
+  void *object() { return this + 1; }
+  static HeapObject *of(void *object) { return static_cast<HeapObject *>(object) - 1; }
 };
 inline constexpr uint64_t kObjMagic = 0x4c52617955644f62ull;
 inline constexpr size_t kPayloadOffset = sizeof(ObjHeader);
@@ -139,6 +151,11 @@ public:
   explicit BindingContext(std::string baseDirectory) : baseDir(std::move(baseDirectory)) {
     sourceNames.emplace_back();
   }
+  /// Frees any object made after destroyLiveObjects() (by a finalizer that
+  /// --unsafe allowed, during lua_close).
+  ~BindingContext() { destroyLiveObjects(); }
+  BindingContext(const BindingContext &) = delete;
+  BindingContext &operator=(const BindingContext &) = delete;
   static BindingContext &of(lua_State *L) {
     return **static_cast<BindingContext **>(lua_getextraspace(L));
   }
@@ -170,23 +187,21 @@ public:
   /// Every path resolveReadPath gave out (scripts, OBJ files, images,
   /// io.open), in order, once each: what `lray --watch` watches.
   mutable std::vector<std::string> filesRead;
-  /// The C++ objects of classes with a destructor, by address, with the
-  /// userdata that holds each. They live on the C++ heap, not in the
-  /// userdata: Lua 5.4 can free a finalizable userdata without calling its
-  /// finalizer (after an emergency collection at the memory limit postponed
-  /// it, or when the finalizer call itself ran out of memory), so the
-  /// userdata may be gone while its object is still here;
-  /// destroyLiveObjects() destroys what finalizers did not.
-  struct LiveObject {
-    const ClassInfo *cls;
-    const ObjHeader *holder;
-  };
-  std::unordered_map<void *, LiveObject> liveObjects;
-  /// Destroys and frees every object in liveObjects.
+  /// The C++ objects of classes with a destructor live on the C++ heap, in
+  /// this list, not in their userdata: Lua 5.4 can free a finalizable
+  /// userdata without calling its finalizer (after an emergency collection
+  /// at the memory limit postponed it, or when the finalizer call itself
+  /// ran out of memory), so the userdata may be gone while its object is
+  /// still here. destroyLiveObjects() destroys what finalizers did not.
+  void linkObject(HeapObject *o);
+  /// Destroys and frees every object still in the list; the userdata that
+  /// held them are then of an older generation, and their finalizers
+  /// (which may still run, in lua_close) leave them alone.
   void destroyLiveObjects();
-  /// The finalizer's half: destroys `h`'s object if it is still live and
-  /// still held by `h`.
+  /// The finalizer's half: destroys `h`'s object unless destroyLiveObjects
+  /// already did.
   void destroyObjectOf(const ObjHeader *h);
+  uint64_t objectGeneration = 0;
   std::shared_ptr<std::vector<std::string>> readLog; ///< ScriptOptions::readLog
 
   /// The state's allocator (set by ScriptState): its limit and the pool of
@@ -215,6 +230,7 @@ public:
   ScriptLoc lastSeen{};
 
 private:
+  HeapObject liveObjects_{&liveObjects_, &liveObjects_, nullptr, 0}; ///< list head
   const char *lastSource_ = nullptr; ///< one-entry cache for currentLocation
   uint32_t lastSourceId_ = 0;
 };

@@ -105,7 +105,8 @@ ParseResult parseOptions(int argc, const char *const *argv) {
                  "below T (e.g. 0.01; 0: fixed n x n sampling; overrides scene_info)")
       ->check(nonNegative);
   app.add_option("--min-samples", o.minSamples,
-                 "Adaptive sampling: samples per pixel of the first pass (default 16)")
+                 "Adaptive sampling: samples per pixel of the first pass (default 16; 1: the "
+                 "pixel centre first, more samples only where it differs from a neighbour)")
       ->check(positive);
   app.add_option("--max-samples", o.maxSamples,
                  "Adaptive sampling: most samples a pixel takes (default 1024)")

@@ -19,7 +19,7 @@ enum class LightSampling {
 /// every pixel's error estimate is below the threshold, or the time is up.
 struct AdaptiveSettings {
   double noiseThreshold = 0; ///< 0: no pixel stops early (a time limit ends the render)
-  int minSamples = 16;       ///< samples per pixel of the first pass (even)
+  int minSamples = 16;       ///< samples per pixel of the first pass (even, or 1: centre first)
   int maxSamples = 1024;     ///< no pixel takes more
   double timeLimit = 0;      ///< seconds; 0: none
 };

@@ -4,6 +4,7 @@
 #include "render/pixel_error.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace lray {
 
@@ -11,7 +12,8 @@ SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1
     : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 6, 0.f),
       count_(static_cast<size_t>(width) * height, 0),
       active_(static_cast<size_t>(width) * height, 1),
-      inRegion_(static_cast<size_t>(width) * height, 1) {
+      inRegion_(static_cast<size_t>(width) * height, 1),
+      centreOnly_(static_cast<size_t>(width) * height, 0) {
   if (x1 > x0 && y1 > y0)
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x)
@@ -32,6 +34,27 @@ double SampleBuffer::error(size_t i) const {
   return pixelError({s[0], s[1], s[2]}, {s[3], s[4], s[5]}, count_[i]);
 }
 
+double SampleBuffer::centreContrast(size_t i) const {
+  const int x = static_cast<int>(i % static_cast<size_t>(width_));
+  const int y = static_cast<int>(i / static_cast<size_t>(width_));
+  const float *s = &sums_[i * 6];
+  const double n = count_[i];
+  const Color c(s[0] / n, s[1] / n, s[2] / n);
+  double most = 0;
+  for (int ny = std::max(0, y - 1); ny <= std::min(height_ - 1, y + 1); ++ny)
+    for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) {
+      const size_t j = index(nx, ny);
+      if (j == i || !count_[j]) continue;
+      const float *t = &sums_[j * 6];
+      const double m = count_[j];
+      const Color d(t[0] / m, t[1] / m, t[2] / m);
+      const double difference = std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b);
+      const double brightness = std::max(0.0, (c.r + c.g + c.b + d.r + d.g + d.b) / 2);
+      most = std::max(most, 0.5 * difference / (1e-4 + std::sqrt(brightness)));
+    }
+  return most;
+}
+
 size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // Not converged, then dilated by one pixel so the neighbours of a noisy
   // pixel (the other side of an edge, say) are not starved. Only active
@@ -41,7 +64,9 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   std::vector<uint32_t> noisy;
   for (uint32_t i : activeList_) {
     active_[i] = 0;
-    if (count_[i] < maxSamples && (threshold <= 0 || error(i) >= threshold)) noisy.push_back(i);
+    if (count_[i] < maxSamples &&
+        (threshold <= 0 || (centreOnly_[i] ? centreContrast(i) : error(i)) >= threshold))
+      noisy.push_back(i);
   }
   activeList_.clear();
   for (uint32_t i : noisy) {

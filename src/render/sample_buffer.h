@@ -7,6 +7,7 @@
 #include "math/color.h"
 #include "render/film.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -36,18 +37,44 @@ public:
     s[5] += static_cast<float>(oddSum.b);
     count_[i] += samples;
   }
+  /// The centre-first pass: pixel i's one sample, through its centre.
+  void setCentre(size_t i, const Color &c) {
+    float *s = &sums_[i * 6];
+    s[0] = static_cast<float>(c.r);
+    s[1] = static_cast<float>(c.g);
+    s[2] = static_cast<float>(c.b);
+    s[3] = s[4] = s[5] = 0.f;
+    count_[i] = 1;
+    centreOnly_[i] = 1;
+  }
+  /// A pixel that has only its centre sample drops it before its Sobol
+  /// samples (which then form the pixel's whole, stratified set): returns
+  /// whether it did.
+  bool restart(size_t i) {
+    if (!centreOnly_[i]) return false;
+    std::fill_n(&sums_[i * 6], 6, 0.f);
+    count_[i] = 0;
+    centreOnly_[i] = 0;
+    return true;
+  }
   uint32_t count(size_t i) const { return count_[i]; }
   bool active(size_t i) const { return active_[i] != 0; }
   /// Whether any pixel of the rectangle [x0,x1) x [y0,y1) is active.
   bool anyActive(int x0, int y0, int x1, int y1) const;
 
   double error(size_t i) const;
+  /// For a pixel with only its centre sample: the largest estimate it
+  /// would have were its two samples its own and one of its eight
+  /// neighbours' (half their difference, relative to the square root of
+  /// their mean brightness), i.e. how much an edge between them shows.
+  double centreContrast(size_t i) const;
 
   /// After a pass that brought every active pixel to `target` samples:
   /// a pixel stays active for the next pass if it or one of its eight
-  /// neighbours has not converged (error >= threshold; never with
-  /// threshold 0), unless it already has `maxSamples`. Returns how many
-  /// pixels are active.
+  /// neighbours has not converged (error >= threshold, or centreContrast
+  /// for a pixel with only its centre sample; never with threshold 0),
+  /// unless it already has `maxSamples`. Returns how many pixels are
+  /// active.
   size_t updateActive(double threshold, uint32_t maxSamples);
 
   /// The averaged colours, estimates and counts, and the report's figures.
@@ -60,6 +87,7 @@ private:
   std::vector<uint8_t> active_;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels
   std::vector<uint8_t> inRegion_;
+  std::vector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
 };
 
 /// The report's sample and error figures (samples, maxPixelSamples,

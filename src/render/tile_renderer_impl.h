@@ -18,6 +18,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <xmmintrin.h>
 
 namespace lray {
@@ -86,12 +87,20 @@ inline bool meets(const TileRect &t, const PixelWindow &w) {
   return t.x0 < w.x1 && w.x0 < t.x1 && t.y0 < w.y1 && w.y0 < t.y1;
 }
 
+/// The first pass of Sobol samples: --min-samples, or 4 after the
+/// centre-first pass of --min-samples 1.
+inline uint32_t firstSobolPass(uint32_t minSamples, uint32_t maxSamples) {
+  return minSamples == 1 ? std::min<uint32_t>(4, maxSamples) : minSamples;
+}
+
 /// How many passes adaptive sampling takes at most from min to max samples
 /// (the schedule of renderTiles).
 inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
-  int passes = 1;
-  for (uint32_t target = minSamples; target < maxSamples; ++passes)
-    target = std::min(maxSamples, target + std::max(minSamples, target / 4 * 2));
+  const uint32_t first = firstSobolPass(minSamples, maxSamples);
+  int passes = minSamples == 1 ? 2 : 1;
+  if (minSamples == 1 && maxSamples == 1) return 1;
+  for (uint32_t target = first; target < maxSamples; ++passes)
+    target = std::min(maxSamples, target + std::max(first, target / 4 * 2));
   return passes;
 }
 
@@ -223,11 +232,12 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // estimate see every cell (were the shares split between the halves, a
   // penumbra pixel's halves would differ however many samples it took, and
   // it would never stop).
+  const uint32_t minSamples = static_cast<uint32_t>(std::max(1, adaptive.minSamples));
+  const uint32_t maxSamples = static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
   const uint32_t shares =
       !spread ? 1u
-      : settings.adaptive
-          ? std::max<uint32_t>(1, static_cast<uint32_t>(adaptive.minSamples) / 2)
-          : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
+      : settings.adaptive ? std::max<uint32_t>(1, firstSobolPass(minSamples, maxSamples) / 2)
+                          : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
   const bool pairedStrata = settings.adaptive;
   const Integrator<Accel> integrator(scene, accel, images, shares, settings.shadowSkips);
   const CameraRays camera(scene.camera, settings.width, settings.height);
@@ -293,17 +303,31 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
 
   // Adaptive: passes of Owen-scrambled Sobol samples; after each pass the
   // pixels below the noise threshold (and not next to a noisy one) stop.
-  const uint32_t minSamples = static_cast<uint32_t>(adaptive.minSamples);
-  const uint32_t maxSamples = static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
+  // --min-samples 1 starts with the centre-first pass: one sample through
+  // each pixel centre (every light cell), the best single sample (as
+  // POV-Ray's, and fixed sampling's at 1 x 1); a pixel stops there unless
+  // it differs from a neighbour (SampleBuffer::centreContrast), which is
+  // where edges and texture detail are. The others drop their centre
+  // sample and go on with Sobol passes from 4.
+  const bool centreFirst = minSamples == 1;
+  const uint32_t firstSobol = firstSobolPass(minSamples, maxSamples);
+  std::optional<Integrator<Accel>> allCells;
+  if (centreFirst && shares > 1) allCells.emplace(scene, accel, images, 1, settings.shadowSkips);
+  const Integrator<Accel> &centreIntegrator = allCells ? *allCells : integrator;
+  auto centrePosition = [](int x, int y, uint64_t, uint32_t, Sampler &, double &px, double &py) {
+    px = x + 0.5;
+    py = y + 0.5;
+  };
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
-  // pixels beyond the margin change states one pixel further in per pass.
+  // pixels beyond the margin change states one pixel further in per pass
+  // (two in the centre-first pass's: its contrast, then the dilation).
   // With a margin of the passes plus a tile, no tile holding window pixels
   // ever sees a changed state: its ray batches, and so its pixels, are
   // exactly those of the whole frame. The region is whole tiles.
   PixelWindow region{0, 0, settings.width, settings.height};
   if (!settings.crop.empty()) {
-    const int margin = adaptivePasses(minSamples, maxSamples) + 1 + kTileSize;
+    const int margin = adaptivePasses(minSamples, maxSamples) + 2 + kTileSize;
     auto down = [](int v) { return std::max(0, v / kTileSize * kTileSize); };
     auto up = [](int v, int limit) { return std::min(limit, (v + kTileSize - 1) / kTileSize * kTileSize); };
     region = {down(crop.x0 - margin), down(crop.y0 - margin), up(crop.x1 + margin, settings.width),
@@ -316,7 +340,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
                                     std::chrono::duration<double>(timed ? adaptive.timeLimit : 0));
   std::atomic<bool> timeUp{false}, cancelled{false};
   int passes = 0;
-  uint32_t target = minSamples; // maxSamples >= minSamples
+  uint32_t target = minSamples; // maxSamples >= minSamples; 1: the centre-first pass
   for (int pass = 0;; ++pass) {
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
@@ -338,16 +362,25 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           }
         }
         const size_t count = rect.pixels();
-        for (size_t i = 0; i < count; ++i) {
-          const size_t p = buffer.index(rect.x(i), rect.y(i));
-          work.first[i] = buffer.active(p) ? buffer.count(p) : target;
+        if (centreFirst && pass == 0) {
+          for (size_t i = 0; i < count; ++i)
+            work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
+          sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false,
+                     centrePosition, work, local);
+          for (size_t i = 0; i < count; ++i)
+            if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
+        } else {
+          for (size_t i = 0; i < count; ++i) {
+            const size_t p = buffer.index(rect.x(i), rect.y(i));
+            work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
+          }
+          sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
+                     sobolPosition, work, local);
+          for (size_t i = 0; i < count; ++i)
+            if (work.taken[i])
+              buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
+                         work.taken[i]);
         }
-        sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
-                   sobolPosition, work, local);
-        for (size_t i = 0; i < count; ++i)
-          if (work.taken[i])
-            buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
-                       work.taken[i]);
         size_t done = ++tilesDone;
         if (progress) progress(done, tileCount);
       }
@@ -370,10 +403,10 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       break;
     }
     // Each pass adds half the samples taken so far (at least the first
-    // pass's): the error falls by about a fifth per pass, and a pixel
-    // overshoots its threshold by at most half its samples.
-    const uint32_t step = std::max(minSamples, target / 4 * 2);
-    target = std::min(maxSamples, target + step);
+    // Sobol pass's): the error falls by about a fifth per pass, and a
+    // pixel overshoots its threshold by at most half its samples.
+    const uint32_t step = std::max(firstSobol, target / 4 * 2);
+    target = centreFirst && pass == 0 ? firstSobol : std::min(maxSamples, target + step);
   }
   perThread.combine_each([&](const RayCounts &c) { counts += c; });
   buffer.writeTo(film);

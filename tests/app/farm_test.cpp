@@ -45,6 +45,7 @@ TEST_F(Farm, TilesMergeIntoTheSameBytesAsTheWholeFrame) {
       {"--frames 2 -s 2 --backend kdtree", "f0002.png"},
       {"--frames 3 --noise-threshold 0.03 --max-samples 64", "f0003.png"},
       {"--frames 3 --noise-threshold 0.03 --max-samples 64 --backend kdtree", "f0003.png"},
+      {"--frames 3 --noise-threshold 0.03 --min-samples 1 --max-samples 64", "f0003.png"},
       {"--frames 1 --format exr --aovs -s 2", "f0001.exr"},
       {"--frames 1 --linear --format tga", "f0001.tga"},
   };
@@ -78,6 +79,14 @@ TEST_F(Farm, TilesMergeIntoTheSameBytesAsTheWholeFrame) {
   ASSERT_EQ(runMerge(crops.string() + " --keep-tiles").status, 0);
   EXPECT_TRUE(readFile(whole / "f0004.png") == readFile(crops / "f0004.png"));
   EXPECT_TRUE(fs::exists(crops / "f0004.crop-30-0-72-20.exr"));
+  // The centre-first pass decides from its neighbours: crops stitch the same.
+  fs::path whole1 = dir_ / "whole1", crops1 = dir_ / "crops1";
+  const std::string centreFirst = " -q --frames 4 --noise-threshold 0.02 --min-samples 1 --max-samples 64";
+  ASSERT_EQ(runLray(scene.string() + " " + whole1.string() + centreFirst).status, 0);
+  for (const char *c : {"0:0:30:53", "30:0:72:20", "30:20:72:53"})
+    ASSERT_EQ(runLray(scene.string() + " " + crops1.string() + centreFirst + " --crop " + c).status, 0);
+  ASSERT_EQ(runMerge(crops1.string()).status, 0);
+  EXPECT_TRUE(readFile(whole1 / "f0004.png") == readFile(crops1 / "f0004.png"));
 }
 
 TEST_F(Farm, MergeNamesWhatIsMissingOrWrong) {

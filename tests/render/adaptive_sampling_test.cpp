@@ -165,6 +165,71 @@ TEST_P(AdaptiveSampling, ErrorAgainstAConvergedReferenceFallsWithTheThreshold) {
   EXPECT_LT(lastError, 0.01);
 }
 
+// --min-samples 1: one sample through each pixel centre; a pixel stops
+// there unless it differs from a neighbour, else it drops the centre sample
+// and takes Sobol passes from 4.
+TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
+  const double threshold = 0.03;
+  const Film film = render(scene, *accel, adaptiveSettings(threshold, 1, 128));
+  const Film centres = render(scene, *accel, fixedSettings(1, LightSampling::All));
+  int atCentre = 0;
+  SampleBuffer contrast(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) contrast.setCentre(contrast.index(x, y), centres.get(x, y));
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const uint32_t n = film.sampleCount(x, y);
+      // One sample, or a restart: never the centre plus Sobol samples.
+      ASSERT_TRUE(n == 1 || n >= 4) << x << "," << y << ": " << n;
+      if (n != 1) continue;
+      ++atCentre;
+      // Exactly the 1 x 1 render's pixel (every light cell), ...
+      ASSERT_EQ(film.get(x, y), centres.get(x, y)) << x << "," << y;
+      // ... and neither it nor a neighbour differed from its neighbours
+      // by the threshold.
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
+          EXPECT_LT(contrast.centreContrast(contrast.index(nx, ny)), threshold)
+              << nx << "," << ny << " next to " << x << "," << y;
+        }
+    }
+  }
+  // The flat floor and background stop at their centres (a fifth of this
+  // small frame); edges and the penumbra do not. Fewer samples than a
+  // first pass of 4 at the same threshold.
+  EXPECT_GT(atCentre, kWidth * kHeight / 5);
+  EXPECT_LT(atCentre, kWidth * kHeight);
+  EXPECT_LT(film.report.samples, render(scene, *accel, adaptiveSettings(threshold, 4, 128)).report.samples);
+}
+
+TEST_P(AdaptiveSampling, CentreFirstIsDeterministicAndConvergesWithTheThreshold) {
+  const FrameSettings fs = adaptiveSettings(0.02, 1, 64);
+  Film one = [&] {
+    tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
+    return render(scene, *accel, fs);
+  }();
+  Film many = [&] {
+    tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
+    return render(scene, *accel, fs);
+  }();
+  EXPECT_EQ(one.data(), many.data());
+  EXPECT_EQ(one.report.samples, many.report.samples);
+  const Film reference = render(scene, *accel, fixedSettings(24));
+  double lastError = 1e9;
+  for (double threshold : {0.2, 0.05, 0.012, 0.003}) {
+    const double error = rmse(render(scene, *accel, adaptiveSettings(threshold, 1, 512)), reference);
+    EXPECT_LT(error, lastError) << threshold;
+    lastError = error;
+  }
+  EXPECT_LT(lastError, 0.01);
+  // A zero threshold: every pixel restarts and takes the maximum.
+  const Film all = render(scene, *accel, adaptiveSettings(0, 1, 24));
+  EXPECT_EQ(all.report.samples, 24u * kWidth * kHeight);
+  EXPECT_EQ(all.report.passes, 6); // the centres, then 4, 8, 12, 18, 24
+}
+
 TEST_P(AdaptiveSampling, ZeroThresholdTakesTheMaximumEverywhere) {
   const Film film = render(scene, *accel, adaptiveSettings(0, 4, 24));
   for (int y = 0; y < kHeight; ++y)

@@ -156,30 +156,39 @@ int nextTypeIndex() {
 
 // ---- BindingContext --------------------------------------------------------------
 
+bool BindingContext::sameSource(uint32_t id, const lua_Debug &ar) const {
+  const SourceKey &key = sourceKeys[id];
+  return key.source == ar.source && key.length == ar.srclen &&
+         std::memcmp(key.head.data(), ar.source, key.head.size()) == 0;
+}
+
 ScriptLoc BindingContext::currentLocation(lua_State *L) {
+  constexpr size_t kHeadBytes = 64;
   lua_Debug ar;
   for (int level = 0; lua_getstack(L, level, &ar); ++level) {
     if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
-    // Fast path: the same chunk as last time (checked by text, as below).
-    if (ar.source == lastSource_ && sourceTexts[lastSourceId_] == ar.source)
-      return {lastSourceId_, static_cast<uint32_t>(ar.currentline)};
+    const auto line = static_cast<uint32_t>(ar.currentline);
+    if (sameSource(lastSourceId_, ar)) return {lastSourceId_, line}; // the usual case
     if (preludeSource == ar.source || std::strcmp(ar.source, "=sandbox") == 0) continue;
     auto it = sourceIds.find(ar.source);
-    // The pointer is the interned chunk name; check the text in case the
-    // address was reused by a later chunk.
-    if (it == sourceIds.end() || sourceTexts[it->second] != ar.source) {
-      uint32_t id = static_cast<uint32_t>(sourceNames.size());
-      sourceNames.emplace_back(ar.short_src);
-      sourceTexts.resize(sourceNames.size());
-      sourceTexts[id] = ar.source;
-      sourceIds[ar.source] = id;
-      lastSource_ = ar.source;
-      lastSourceId_ = id;
-      return {id, static_cast<uint32_t>(ar.currentline)};
+    if (it != sourceIds.end() && sameSource(it->second, ar)) {
+      lastSourceId_ = it->second;
+      return {lastSourceId_, line};
     }
-    lastSource_ = ar.source;
-    lastSourceId_ = it->second;
-    return {it->second, static_cast<uint32_t>(ar.currentline)};
+    if (sourceNames.size() >= kMaxSources) {
+      if (!manySourcesId_) {
+        manySourcesId_ = static_cast<uint32_t>(sourceNames.size());
+        sourceNames.emplace_back("a chunk loaded at run time");
+        sourceKeys.push_back({nullptr, 0, {}});
+      }
+      return {manySourcesId_, line};
+    }
+    const auto id = static_cast<uint32_t>(sourceNames.size());
+    sourceNames.emplace_back(ar.short_src);
+    sourceKeys.push_back({ar.source, ar.srclen, std::string(ar.source, std::min(ar.srclen, kHeadBytes))});
+    sourceIds[ar.source] = id;
+    lastSourceId_ = id;
+    return {id, line};
   }
   return {};
 }

@@ -150,6 +150,7 @@ class BindingContext {
 public:
   explicit BindingContext(std::string baseDirectory) : baseDir(std::move(baseDirectory)) {
     sourceNames.emplace_back();
+    sourceKeys.push_back({nullptr, 0, {}});
   }
   /// Frees any object made after destroyLiveObjects() (by a finalizer that
   /// --unsafe allowed, during lua_close).
@@ -219,8 +220,20 @@ public:
   std::unordered_map<const void *, const ClassInfo *> primaryByType;
   std::vector<const ClassInfo *> primaryByIndex; ///< cache of primaryByType by typeIndex
   std::vector<std::string> sourceNames; ///< [0] = unknown
+  /// How a chunk is recognised: the address of its source text, which Lua
+  /// keeps while the chunk lives, checked against its length and first
+  /// bytes in case a later chunk reuses the address. Never the whole text:
+  /// a chunk loaded from a string has that string as its source.
+  struct SourceKey {
+    const char *source;
+    size_t length;
+    std::string head;
+  };
+  std::vector<SourceKey> sourceKeys; ///< by id
   std::unordered_map<const void *, uint32_t> sourceIds;
-  std::vector<std::string> sourceTexts; ///< chunk names as Lua holds them, by id
+  /// Distinct chunks named at most (a script can load chunks without end);
+  /// later ones share one name.
+  static constexpr size_t kMaxSources = 4096;
   std::deque<std::string> functionNames; ///< stable storage for error contexts
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   double timeoutSeconds = 0;
@@ -231,8 +244,9 @@ public:
 
 private:
   HeapObject liveObjects_{&liveObjects_, &liveObjects_, nullptr, 0}; ///< list head
-  const char *lastSource_ = nullptr; ///< one-entry cache for currentLocation
-  uint32_t lastSourceId_ = 0;
+  uint32_t lastSourceId_ = 0; ///< one-entry cache for currentLocation
+  uint32_t manySourcesId_ = 0; ///< the name shared past kMaxSources (0: not made yet)
+  bool sameSource(uint32_t id, const lua_Debug &ar) const;
 };
 
 // ---- userdata access ---------------------------------------------------------

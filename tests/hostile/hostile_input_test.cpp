@@ -185,6 +185,20 @@ TEST_F(Hostile, ObjectsWhoseFinalizerCallsFailedAreStillFreed) {
   }
 }
 
+// Chunks loaded from strings are named in messages; naming them once kept
+// a copy of each chunk's whole text outside the script's memory limit
+// (300 chunks of 1 MB took 300 MB under a 64 MB limit).
+TEST_F(Hostile, LoadingManyBigChunksStaysWithinTheScriptMemory) {
+  const std::string s = write(
+      "chunks.lua", "local body = 'local x = 0 for i = 1, 20000 do x = x + i end return x --' .. "
+                    "string.rep('y', 1000000)\n"
+                    "for i = 1, 300 do assert(load(body .. i))() end\n"
+                    "for i = 1, 20000 do assert(load('return ' .. i .. ' + 0 -- ' .. i))() end\n"
+                    "error('done')" + kScene);
+  const Outcome o = expectRefused({s, out(), "--script-memory", "64M"}, 1, "chunks.lua:4: done", 60, 150);
+  (void)o;
+}
+
 TEST_F(Hostile, OneHugeAllocationIsRefusedNamingTheScene) {
   const std::string s = write("big.lua", "local s = string.rep('x', 1.5e9)" + kScene);
   expectRefused({s, out(), "--script-memory", "256M"}, 1,

@@ -285,6 +285,7 @@ void *pushNewObject(lua_State *L, const ClassInfo &cls) {
   auto *h = static_cast<ObjHeader *>(mem);
   h->magic = 0;
   h->cls = &cls;
+  h->generation = 0;
   if (!cls.destroy) {
     h->object = static_cast<char *>(mem) + kPayloadOffset;
   } else {

@@ -19,6 +19,14 @@ const ClassInfo &upvalueClass(lua_State *L, int up) {
   return *static_cast<const ClassInfo *>(lua_touserdata(L, lua_upvalueindex(up)));
 }
 
+/// The object a metamethod of class `cls` was called on. Only a finalizer
+/// (--unsafe) can still hold one whose C++ part is gone.
+void *selfObject(lua_State *L, int self, const ClassInfo &cls) {
+  ObjHeader *h = objHeader(L, self);
+  if (!h) throw ScriptError(cls.name + ": this object was freed (a finalizer outlived it)");
+  return payload(h);
+}
+
 std::string unknownMemberMessage(lua_State *L, const ClassInfo &cls, int key) {
   if (lua_type(L, key) != LUA_TSTRING)
     return cls.name + ": attributes are named by strings, got " + typeName(L, key);
@@ -51,7 +59,7 @@ void assignMember(lua_State *L, const ClassInfo &cls, const Member *m, bool isMe
   if (!m->set) throw ScriptError(cls.name + ": attribute '" + m->name + "' is read-only");
   int top = lua_gettop(L);
   try {
-    m->set(L, payload(objHeader(L, self)), self, value, *m);
+    m->set(L, selfObject(L, self, cls), self, value, *m);
   } catch (const TypeMismatch &e) {
     throw ScriptError(cls.name + ": attribute '" + m->name + "' expects " + e.expected + ", got " +
                       e.given);
@@ -74,7 +82,7 @@ int indexThunk(lua_State *L) {
     if (type != LUA_TLIGHTUSERDATA) throw ScriptError(unknownMemberMessage(L, cls, 2));
     const Member &m = *static_cast<const Member *>(lua_touserdata(L, -1));
     lua_pop(L, 1);
-    m.get(L, payload(objHeader(L, 1)), 1, m);
+    m.get(L, selfObject(L, 1, cls), 1, m);
     return 1;
   });
 }
@@ -159,7 +167,8 @@ int nextTypeIndex() {
 bool BindingContext::sameSource(uint32_t id, const lua_Debug &ar) const {
   const SourceKey &key = sourceKeys[id];
   return key.source == ar.source && key.length == ar.srclen &&
-         std::memcmp(key.head.data(), ar.source, key.head.size()) == 0;
+         std::memcmp(key.head.data(), ar.source, key.head.size()) == 0 &&
+         std::memcmp(key.tail.data(), ar.source + ar.srclen - key.tail.size(), key.tail.size()) == 0;
 }
 
 ScriptLoc BindingContext::currentLocation(lua_State *L) {
@@ -179,13 +188,15 @@ ScriptLoc BindingContext::currentLocation(lua_State *L) {
       if (!manySourcesId_) {
         manySourcesId_ = static_cast<uint32_t>(sourceNames.size());
         sourceNames.emplace_back("a chunk loaded at run time");
-        sourceKeys.push_back({nullptr, 0, {}});
+        sourceKeys.push_back({nullptr, 0, {}, {}});
       }
       return {manySourcesId_, line};
     }
     const auto id = static_cast<uint32_t>(sourceNames.size());
     sourceNames.emplace_back(ar.short_src);
-    sourceKeys.push_back({ar.source, ar.srclen, std::string(ar.source, std::min(ar.srclen, kHeadBytes))});
+    const size_t ends = std::min(ar.srclen, kHeadBytes);
+    sourceKeys.push_back({ar.source, ar.srclen, std::string(ar.source, ends),
+                          std::string(ar.source + ar.srclen - ends, ends)});
     sourceIds[ar.source] = id;
     lastSourceId_ = id;
     return {id, line};
@@ -211,9 +222,14 @@ std::string BindingContext::resolvePath(const std::string &file) const {
   return fs::absolute(p).lexically_normal().string();
 }
 
-void BindingContext::checkMemory(const char *what) const {
-  if (!allocator || !allocator->overLimit()) return;
-  throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
+bool BindingContext::pastMemoryLimit(lua_State *L) const {
+  if (!allocator || !allocator->overLimit()) return false;
+  lua_gc(L, LUA_GCCOLLECT);
+  return allocator->overLimit();
+}
+
+void BindingContext::checkMemory(lua_State *L, const char *what) const {
+  if (pastMemoryLimit(L)) throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
 }
 
 namespace {
@@ -292,7 +308,7 @@ void *pushNewObject(lua_State *L, const ClassInfo &cls) {
     BindingContext &ctx = BindingContext::of(L);
     // Charged like the Lua heap: a script cannot hold more than its limit
     // in objects whose bulk lives outside it.
-    ctx.checkMemory(cls.name.c_str());
+    ctx.checkMemory(L, cls.name.c_str());
     auto *o = static_cast<HeapObject *>(::operator new(sizeof(HeapObject) + cls.size));
     o->cls = &cls;
     try {

@@ -150,7 +150,7 @@ class BindingContext {
 public:
   explicit BindingContext(std::string baseDirectory) : baseDir(std::move(baseDirectory)) {
     sourceNames.emplace_back();
-    sourceKeys.push_back({nullptr, 0, {}});
+    sourceKeys.push_back({nullptr, 0, {}, {}});
   }
   /// Frees any object made after destroyLiveObjects() (by a finalizer that
   /// --unsafe allowed, during lua_close).
@@ -211,8 +211,12 @@ public:
   /// --max-file-size: the largest OBJ file mesh_from_obj reads.
   uint64_t maxFileBytes = uint64_t{1} << 30;
   /// Throws ScriptError naming `what` when the script's memory, Lua heap and
-  /// external together, is past --script-memory.
-  void checkMemory(const char *what) const;
+  /// external together, is past --script-memory even after a full garbage
+  /// collection (what Lua does before it refuses an allocation). Only from
+  /// binding code, whose objects in use are on the Lua stack.
+  void checkMemory(lua_State *L, const char *what) const;
+  /// Whether the script's memory is past the limit after a full collection.
+  bool pastMemoryLimit(lua_State *L) const;
 
   std::string baseDir;
   std::string preludeSource = "=prelude"; ///< chunk name of the prelude
@@ -227,7 +231,7 @@ public:
   struct SourceKey {
     const char *source;
     size_t length;
-    std::string head;
+    std::string head, tail; ///< the first and last (up to) 64 bytes
   };
   std::vector<SourceKey> sourceKeys; ///< by id
   std::unordered_map<const void *, uint32_t> sourceIds;
@@ -254,7 +258,11 @@ private:
 inline ObjHeader *objHeader(lua_State *L, int i) {
   if (lua_type(L, i) != LUA_TUSERDATA || lua_rawlen(L, i) < sizeof(ObjHeader)) return nullptr;
   auto *h = static_cast<ObjHeader *>(lua_touserdata(L, i));
-  return h->magic == kObjMagic ? h : nullptr;
+  if (h->magic != kObjMagic) return nullptr;
+  // Its object was freed by destroyLiveObjects() (a finalizer that --unsafe
+  // allowed, running in lua_close, still holds the userdata).
+  if (h->cls->destroy && h->generation != BindingContext::of(L).objectGeneration) return nullptr;
+  return h;
 }
 inline void *payload(ObjHeader *h) { return h->object; }
 
@@ -420,9 +428,10 @@ public:
   }
   DeferredMemoryLimit(const DeferredMemoryLimit &) = delete;
   DeferredMemoryLimit &operator=(const DeferredMemoryLimit &) = delete;
-  /// The limit's message if the script's memory is past it, else empty.
-  std::string exceeded() const {
-    return allocator_ && allocator_->overLimit() ? allocator_->limitMessage() : std::string();
+  /// The limit's message if the script's memory is past it even after a
+  /// full collection, else empty.
+  std::string exceeded(lua_State *L) const {
+    return BindingContext::of(L).pastMemoryLimit(L) ? allocator_->limitMessage() : std::string();
   }
 
 private:
@@ -444,7 +453,7 @@ template <class F> int protectedCall(lua_State *L, F &&f) {
     std::string &error = pendingErrorText();
     try {
       const int results = f();
-      error = deferred.exceeded();
+      error = deferred.exceeded(L);
       if (error.empty()) return results;
     } catch (const std::bad_alloc &) {
       error.clear(); // only what cannot fail here
@@ -459,6 +468,11 @@ template <class F> int protectedCall(lua_State *L, F &&f) {
       lua_pushliteral(L, "out of memory");
     else
       pushErrorMessage(L, error.c_str());
+    // Where a memory error is blamed should raising this one meet the
+    // limit (the message handler's own call can): here, not where the
+    // instruction hook last looked.
+    BindingContext &ctx = BindingContext::of(L);
+    ctx.lastSeen = ctx.currentLocation(L);
   }
   return lua_error(L);
 }

@@ -64,9 +64,17 @@ std::vector<Vec3f> readVec3List(lua_State *L, int value, const char *attribute) 
   return out;
 }
 
-void pushVec3List(lua_State *L, const std::vector<Vec3f> &list) {
+/// Inside a loop that builds a Lua table per element: the tables take ten
+/// times the charged arrays they come from, and the deferred limit would
+/// only see them when the call returns, so the limit is checked as they grow.
+void checkMemoryEvery(lua_State *L, size_t i, const char *what) {
+  if (i % 4096 == 4095) BindingContext::of(L).checkMemory(L, what);
+}
+
+void pushVec3List(lua_State *L, const std::vector<Vec3f> &list, const char *what) {
   lua_createtable(L, static_cast<int>(list.size()), 0);
   for (size_t i = 0; i < list.size(); ++i) {
+    checkMemoryEvery(L, i, what);
     lua_createtable(L, 3, 0);
     const float c[3] = {list[i].x, list[i].y, list[i].z};
     for (int k = 0; k < 3; ++k) {
@@ -144,6 +152,7 @@ void pushIndices(lua_State *L, const MeshSource &src) {
   lua_createtable(L, static_cast<int>(src.faceSizes.size()), 0);
   size_t first = 0;
   for (size_t f = 0; f < src.faceSizes.size(); ++f) {
+    checkMemoryEvery(L, f, "Mesh: indices");
     lua_createtable(L, static_cast<int>(src.faceSizes[f]), 0);
     for (uint32_t c = 0; c < src.faceSizes[f]; ++c) {
       const MeshCorner &k = src.corners[first + c];
@@ -191,7 +200,7 @@ void chargeMesh(lua_State *L, MeshObj &m, const char *what) {
   // The place a memory error soon after is blamed on (Lua gives it none).
   ctx.lastSeen = ctx.currentLocation(L);
   if (ctx.allocator) m.geometry->charge.set(ctx.allocator->external(), bytes);
-  ctx.checkMemory(what);
+  ctx.checkMemory(L, what);
 }
 
 int meshFromObj(lua_State *L) {
@@ -215,12 +224,16 @@ int meshFromObj(lua_State *L) {
   return 1;
 }
 
-void getVertices(lua_State *L, MeshObj &m, int) { pushVec3List(L, m.geometry->source.positions); }
+void getVertices(lua_State *L, MeshObj &m, int) {
+  pushVec3List(L, m.geometry->source.positions, "Mesh: vertices");
+}
 void setVertices(lua_State *L, MeshObj &m, int, int v) {
   m.editSource().positions = readVec3List(L, v, "vertices");
   chargeMesh(L, m, "Mesh: vertices");
 }
-void getNormals(lua_State *L, MeshObj &m, int) { pushVec3List(L, m.geometry->source.normals); }
+void getNormals(lua_State *L, MeshObj &m, int) {
+  pushVec3List(L, m.geometry->source.normals, "Mesh: normals");
+}
 void setNormals(lua_State *L, MeshObj &m, int, int v) {
   m.editSource().normals = readVec3List(L, v, "normals");
   chargeMesh(L, m, "Mesh: normals");
@@ -230,6 +243,7 @@ void getUvs(lua_State *L, MeshObj &m, int) {
   const auto &uvs = m.geometry->source.uvs;
   lua_createtable(L, static_cast<int>(uvs.size()), 0);
   for (size_t i = 0; i < uvs.size(); ++i) {
+    checkMemoryEvery(L, i, "Mesh: uvs");
     lua_createtable(L, 2, 0);
     lua_pushnumber(L, uvs[i].u);
     lua_rawseti(L, -2, 1);

@@ -66,23 +66,17 @@ end
 )lua";
 
 /// The sandbox's readable(path, what): BindingContext::resolveReadPath,
-/// its refusal raised as an error at the script line that asked.
+/// its refusal raised as an error at the script line that asked. The
+/// arguments are checked before protectedCall (their errors are Lua errors,
+/// which must not cross its C++ objects).
 int readable(lua_State *L) {
   const char *path = luaL_checkstring(L, 1);
   const char *what = luaL_checkstring(L, 2);
-  bool failed = false;
-  // Kept between calls: lua_pushlstring can raise a memory error, whose
-  // longjmp would skip the destructor of a local string (a leak).
-  thread_local std::string resolved;
-  try {
-    resolved = BindingContext::of(L).resolveReadPath(path, what);
-  } catch (const ScriptError &e) {
-    pushErrorMessage(L, e.what());
-    failed = true;
-  }
-  if (failed) return lua_error(L);
-  lua_pushlstring(L, resolved.data(), resolved.size());
-  return 1;
+  return protectedCall(L, [&] {
+    const std::string resolved = BindingContext::of(L).resolveReadPath(path, what);
+    lua_pushlstring(L, resolved.data(), resolved.size());
+    return 1;
+  });
 }
 
 } // namespace

@@ -31,6 +31,38 @@ std::string readScript(const std::string &path, uint64_t maxBytes) {
   return text.str();
 }
 
+/// The global named by the light userdata at index 1 (a C string), read
+/// raw: a script may give _G a metatable, whose __index must not run (or
+/// fail, or loop) outside any protected call and time limit. Called through
+/// ScriptState::protectedCall, as is everything that can allocate.
+int rawGlobal(lua_State *L) {
+  const char *name = static_cast<const char *>(lua_touserdata(L, 1));
+  lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_GLOBALS);
+  lua_pushstring(L, name);
+  lua_rawget(L, -2);
+  return 1;
+}
+
+/// scene(clock), the function read raw as above: the clock is at index 1.
+int callScene(lua_State *L) {
+  lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_GLOBALS);
+  lua_pushliteral(L, "scene");
+  lua_rawget(L, -2);
+  if (!lua_isfunction(L, -1))
+    return luaL_error(L, "the global scene is no longer a function (the script changed it)");
+  lua_pushvalue(L, 1);
+  lua_call(L, 1, 1);
+  return 1;
+}
+
+/// Pushes the global `name` (a string literal), read raw in a protected call.
+void pushGlobal(lua::ScriptState &state, const char *name) {
+  lua_State *L = state.state();
+  lua_pushcfunction(L, &rawGlobal); // neither push allocates
+  lua_pushlightuserdata(L, const_cast<char *>(name));
+  state.protectedCall(1, 1);
+}
+
 std::string folderOf(const std::string &path) {
   std::filesystem::path parent = std::filesystem::path(path).parent_path();
   return parent.empty() ? std::string(".") : parent.string();
@@ -56,7 +88,7 @@ SceneScript::SceneScript(const std::string &source, const std::string &chunkName
   state.run(source, chunkName);
 
   SourceLocation where{impl_->displayName, 0};
-  lua_getglobal(L, "scene_info");
+  pushGlobal(state, "scene_info");
   if (const auto *info = lua::toObject<lua::SceneInfoObj>(L, -1)) {
     impl_->info = *info;
     SourceLocation loc = state.context().resolve(info->loc);
@@ -69,7 +101,7 @@ SceneScript::SceneScript(const std::string &source, const std::string &chunkName
   lua_pop(L, 1);
   validateSceneInfo(impl_->info, options.maxPixels, where.str());
 
-  lua_getglobal(L, "scene");
+  pushGlobal(state, "scene");
   bool isFunction = lua_isfunction(L, -1);
   lua_pop(L, 1);
   if (!isFunction)
@@ -91,7 +123,7 @@ Scene SceneScript::buildFrame(double clock) {
   lua::ScriptState &state = impl_->state;
   lua_State *L = state.state();
   impl_->warnings.clear();
-  lua_getglobal(L, "scene");
+  lua_pushcfunction(L, &callScene);
   lua_pushnumber(L, clock);
   state.protectedCall(1, 1);
   const auto *sceneObj = lua::toObject<lua::SceneObj>(L, -1);

@@ -32,8 +32,10 @@ int traceback(lua_State *L) {
 void timeoutHook(lua_State *L, lua_Debug *) {
   BindingContext &ctx = BindingContext::of(L);
   ctx.lastSeen = ctx.currentLocation(L);
-  // Script code runs: no binding call is under way, so a deferral still
-  // open was left by a longjmp (true out-of-memory) and must end.
+  // Script code runs: no binding call is under way (no binding calls Lua
+  // code or anything that could run a metamethod: their table accesses
+  // are raw), so a deferral still open was left by a longjmp (a true
+  // out-of-memory) and must end.
   if (ctx.allocator) ctx.allocator->clearDeferrals();
   if (std::chrono::steady_clock::now() <= ctx.deadline) return;
   {

@@ -23,6 +23,7 @@
 #include <memory>
 #include <new>
 #include <stdexcept>
+#include <system_error>
 #include <unistd.h>
 
 namespace lray {
@@ -90,7 +91,10 @@ int run(const Options &opt) {
   RunStats stats;
   if (!fs::is_regular_file(opt.scenePath))
     throw SceneError("scene file '" + opt.scenePath + "' does not exist or is not a file");
-  if (opt.info) return printInfo(opt);
+  if (opt.info) {
+    setActivity("reading the scene's frames (--info)");
+    return printInfo(opt);
+  }
   // Fail on an unusable output before spending time on the script.
   prepareOutDir(opt.outDir);
   if (!opt.statsPath.empty()) {
@@ -152,6 +156,7 @@ int run(const Options &opt) {
   ProgressBar bar(!opt.quiet);
   bool warned = false;
   for (int frame = first; frame <= last; frame += opt.frameStep) {
+    setActivity(fmt::format("preparing frame {}", frame));
     FrameStats frameStats;
     const std::string finalName = frameFileName(stem, frame, info.frames, opt.format);
     const std::string fileName = !tiled      ? finalName
@@ -210,6 +215,9 @@ std::string describeUnexpectedError(const std::exception &e) {
   if (dynamic_cast<const std::bad_alloc *>(&e)) return "out of memory";
   if (dynamic_cast<const std::length_error *>(&e)) return "a size too large to allocate";
   if (dynamic_cast<const std::filesystem::filesystem_error *>(&e)) return e.what();
+  // Threads, files and other resources the system refused.
+  if (const auto *system = dynamic_cast<const std::system_error *>(&e))
+    return "the system refused: " + system->code().message();
   std::string what = e.what();
   for (size_t at; (at = what.find("std::")) != std::string::npos;) what.erase(at, 5);
   return "internal error (" + what + "); please report it with the scene";
@@ -291,7 +299,10 @@ int runLray(int argc, const char *const *argv) {
     return parsed.exitCode;
   }
   try {
-    if (parsed.options->watch) return runWatch(*parsed.options);
+    if (parsed.options->watch) {
+      setActivity("watching the scene (--watch)");
+      return runWatch(*parsed.options);
+    }
     return run(*parsed.options);
   } catch (const SceneError &e) {
     std::fprintf(stderr, "lray: error: %s\n", e.what());

@@ -73,8 +73,11 @@ public:
   /// a pixel stays active for the next pass if it or one of its eight
   /// neighbours has not converged (error >= threshold, or centreContrast
   /// for a pixel with only its centre sample; never with threshold 0),
-  /// unless it already has `maxSamples`. Returns how many pixels are
-  /// active.
+  /// unless it already has `maxSamples`. Only active pixels are judged:
+  /// an inactive one was not noisy when it stopped and has not changed
+  /// since (a centre-only pixel is judged once, after the centre pass, not
+  /// again as its neighbours refine; the crop margin counts on that).
+  /// Returns how many pixels are active.
   size_t updateActive(double threshold, uint32_t maxSamples);
 
   /// The averaged colours, estimates and counts, and the report's figures.

@@ -199,6 +199,78 @@ TEST_F(Hostile, LoadingManyBigChunksStaysWithinTheScriptMemory) {
   (void)o;
 }
 
+// Garbage made through LRay's functions is collected before the limit is
+// called exceeded (as Lua does before it refuses an allocation): a script
+// whose live data is half its limit renders every frame.
+TEST_F(Hostile, GarbageIsCollectedBeforeTheLimitIsCalledExceeded) {
+  // Each round's vectors grow old before they die: old garbage waits for a
+  // major collection, past the limit (without the collection this stopped
+  // at 2.5 to 4 MiB).
+  const std::string s = write(
+      "garbage.lua",
+      "scene_info = SceneInfo() { image_width = 4, image_height = 4, frames = 2 }\n"
+      "keep = {}\nfor i = 1, 20000 do keep[i] = Vector(i, 0, 0) end\n"
+      "function scene(clock)\n"
+      "  for round = 1, 30 do\n"
+      "    for i = 1, 20000 do keep[i] = Vector(i, round, 0) end\n"
+      "  end\n"
+      "  return Scene()\nend\n");
+  const Outcome o = runLray({s, out(), "-q", "--script-memory", "3M"}, 60);
+  EXPECT_FALSE(o.timedOut);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
+// Reading a big mesh's vertices back builds a Lua table per vertex, ten
+// times the arrays they come from: the limit is checked as the table grows,
+// not only when the call returns.
+TEST_F(Hostile, ReadingBackABigMeshStaysWithinTheScriptMemory) {
+  const std::string s = write(
+      "readback.lua", "local m = Mesh()\nlocal v = {}\nfor i = 1, 200000 do v[i] = {i, 0, 0} end\n"
+                      "m.vertices = v\nv = nil\ncollectgarbage()\nlocal copies = {}\n"
+                      "for i = 1, 100 do copies[i] = m.vertices end" + kScene);
+  // 22 MB of tables a copy: the sixth is stopped part-way.
+  expectRefused({s, out(), "--script-memory", "128M"}, 1,
+                "readback.lua:8: the script needed more than 128 MiB", 60, 200);
+  // One call alone: a million vertices read from an OBJ (12 MB charged)
+  // would be 110 MB of tables under a 48 MB limit.
+  std::string obj;
+  for (int i = 0; i < 1000000; ++i) obj += "v 0 0 0\n";
+  obj += "f 1 2 3\n";
+  write("million.obj", obj);
+  const std::string one = write("readone.lua", "local m = mesh_from_obj('million.obj')\n"
+                                               "local vertices = m.vertices" + kScene);
+  expectRefused({one, out(), "--script-memory", "48M"}, 1,
+                "readone.lua:2: the script needed more than 48 MiB", 60, 110);
+}
+
+// A script may give _G a metatable; LRay reads scene_info and scene raw, so
+// an __index that fails or loops changes nothing (it once aborted, or hung
+// with no time limit running).
+TEST_F(Hostile, AMetatableOnTheGlobalsIsNeverCalledByLray) {
+  for (const char *index : {"function() error('boom') end", "function() while true do end end"}) {
+    const std::string s = write("globals.lua", "function scene() return Scene() end\n"
+                                               "setmetatable(_G, {__index = " + std::string(index) + "})\n");
+    const Outcome o = runLray({s, out(), "-q", "-w", "4", "-H", "4", "--script-timeout", "2"}, 20);
+    EXPECT_FALSE(o.timedOut) << index;
+    EXPECT_EQ(o.status, 0) << index << ": " << o.output;
+  }
+}
+
+// With --unsafe a finalizer can run in lua_close after LRay freed its
+// objects' C++ parts: an LRay object it still holds reads as no object
+// (scripts/test runs this with the ASan lray too).
+TEST_F(Hostile, AnUnsafeFinalizerNeverSeesAFreedObject) {
+  const std::string s = write(
+      "late.lua", "local m = Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1, 0} } }\n"
+                  "keep = setmetatable({}, {__gc = function() local ok = pcall(function() return m.smooth end)\n"
+                  "  io.write(ok and 'read' or 'refused', '\\n') end})\n" + kScene.substr(1));
+  const Outcome o = runLray({s, out(), "-q", "-w", "4", "-H", "4", "--unsafe"}, 20);
+  EXPECT_FALSE(o.timedOut);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("refused"), std::string::npos) << o.output;
+  EXPECT_EQ(o.output.find("Sanitizer"), std::string::npos) << o.output;
+}
+
 TEST_F(Hostile, OneHugeAllocationIsRefusedNamingTheScene) {
   const std::string s = write("big.lua", "local s = string.rep('x', 1.5e9)" + kScene);
   expectRefused({s, out(), "--script-memory", "256M"}, 1,

@@ -31,23 +31,25 @@ std::string readScript(const std::string &path, uint64_t maxBytes) {
   return text.str();
 }
 
-/// The global named by the light userdata at index 1 (a C string), read
-/// raw: a script may give _G a metatable, whose __index must not run (or
-/// fail, or loop) outside any protected call and time limit. Called through
-/// ScriptState::protectedCall, as is everything that can allocate.
-int rawGlobal(lua_State *L) {
-  const char *name = static_cast<const char *>(lua_touserdata(L, 1));
+/// Pushes the global `name`, read raw: a script may give _G a metatable,
+/// whose __index must not run (or fail, or loop) outside any protected call
+/// and time limit. Allocates: only inside ScriptState::protectedCall.
+void pushRawGlobal(lua_State *L, const char *name) {
   lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_GLOBALS);
   lua_pushstring(L, name);
   lua_rawget(L, -2);
+  lua_remove(L, -2);
+}
+
+/// The global named by the light userdata at index 1 (a C string).
+int rawGlobal(lua_State *L) {
+  pushRawGlobal(L, static_cast<const char *>(lua_touserdata(L, 1)));
   return 1;
 }
 
-/// scene(clock), the function read raw as above: the clock is at index 1.
+/// scene(clock), the function read raw: the clock is at index 1.
 int callScene(lua_State *L) {
-  lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_GLOBALS);
-  lua_pushliteral(L, "scene");
-  lua_rawget(L, -2);
+  pushRawGlobal(L, "scene");
   if (!lua_isfunction(L, -1))
     return luaL_error(L, "the global scene is no longer a function (the script changed it)");
   lua_pushvalue(L, 1);

@@ -20,7 +20,7 @@
 #include "math/color.h"
 #include "math/transform.h"
 #include "math/vec3.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <lua.hpp>
 

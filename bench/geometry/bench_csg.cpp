@@ -8,10 +8,10 @@
 // the CSG and plain scenes timed one after the other in each round.
 //
 //   bench_csg [width height]     (default 640 x 480 rays per view)
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "geometry/csg_tree.h"
 #include "geometry/shape.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "render/camera_rays.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // Benchmarks: see accelerator_bench.h.
 #include "bench/kdtree/accelerator_bench.h"
 
-#include "app/render_stats.h"
+#include "run/render_stats.h"
 
 #include "render/camera_rays.h"
 

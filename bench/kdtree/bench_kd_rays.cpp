@@ -6,9 +6,9 @@
 // Also prints a digest of the kd-tree's results (hits and occlusion flags),
 // so a traversal change can be checked for bit-identical output. Usage:
 //   bench_kd_rays [maxN=1000000] [repeats=5] [minN=100]
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "bench/kdtree/accelerator_bench.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "math/random.h"
 #include "render/camera_rays.h"
 

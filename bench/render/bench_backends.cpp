@@ -12,11 +12,11 @@
 //  4. The gallery (every scenes/*.lua, frame 0): render time per backend and
 //     the fraction of identical pixels.
 // Writes a Markdown table and a data file for the plot (see bench/backends).
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "bench/kdtree/accelerator_bench.h"
-#include "app/frame_pipeline.h"
+#include "run/frame_pipeline.h"
 #include "bindings/scene_script.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "math/random.h"
 #include "render/camera_rays.h"
 #include "render/image_writer.h"

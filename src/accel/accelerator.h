@@ -1,43 +1,17 @@
 // Pipeline: acceleration. The one interface both backends (Embree and the
 // kd-tree) implement over the same primitives. Nothing outside src/accel/
-// sees Embree types.
+// sees Embree types; render/backends.h lists the backends and runs a frame
+// on each.
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "math/ray.h"
-#include "render/frame_settings.h"
 #include "scene/scene.h"
-#include "shading/ray_counts.h"
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <span>
-#include <string>
-#include <string_view>
 
 namespace lray {
-
-class Film;
-class ImageCache;
-
-/// The backends this build has (accelerator.cpp lists them with their names).
-enum class BackendKind { Embree, KdTree };
-
-class Accelerator;
-
-/// One backend: its command-line name, its kind and how to build it.
-struct BackendEntry {
-  const char *name;
-  BackendKind kind;
-  std::unique_ptr<Accelerator> (*make)(const Scene &scene);
-};
-
-/// Every backend, the default first; the only list of them.
-std::span<const BackendEntry> backends();
-
-/// The name of `kind` ("embree", "kdtree").
-std::string backendName(BackendKind kind);
 
 /// Build-time figures reported by --stats.
 struct AcceleratorStats {
@@ -48,8 +22,9 @@ struct AcceleratorStats {
 };
 
 /// Closest-hit and any-hit queries over one frame's scene. Implementations
-/// are `final`, so the integrator (a template over the concrete type) calls
-/// them without virtual dispatch. Thread-safe for concurrent queries.
+/// are `final`, so the integrator (a template over the concrete type,
+/// instantiated in render/backends.cpp) calls them without virtual
+/// dispatch. Thread-safe for concurrent queries.
 class Accelerator {
 public:
   virtual ~Accelerator() = default;
@@ -65,18 +40,6 @@ public:
   virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const = 0;
 
   virtual AcceleratorStats stats() const = 0;
-
-  /// Renders one frame of `scene` (the scene this was built over) into
-  /// `film`: the tile loop and integrator instantiated for the concrete
-  /// backend (render/tile_renderer.h), so every query below this one
-  /// virtual call is direct. Adds the rays traced to `counts`.
-  virtual void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
-                      Film &film, RayCounts &counts, const ProgressFn &progress) const = 0;
 };
-
-/// Builds the chosen backend over `scene` (which must outlive the result).
-std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene);
-/// The same by name; std::invalid_argument for a name backends() lacks.
-std::unique_ptr<Accelerator> makeAccelerator(std::string_view name, const Scene &scene);
 
 } // namespace lray

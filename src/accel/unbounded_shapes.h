@@ -4,7 +4,7 @@
 // the two backends cannot disagree about them either.
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "geometry/shape.h"
 #include "math/ray.h"
 #include "scene/scene.h"

@@ -2,13 +2,15 @@
 #include "app/app.h"
 
 #include "app/progress_bar.h"
-#include "app/render_stats.h"
-#include "bindings/scene_script.h"
-#include "scene/scene_checks.h"
-#include "app/frame_pipeline.h"
 #include "app/watch/watch_loop.h"
+#include "bindings/scene_script.h"
 #include "render/tile_file.h"
+#include "run/frame_pipeline.h"
+#include "run/limit_options.h"
+#include "run/render_stats.h"
+#include "run/run_plan.h"
 #include "shading/image_cache.h"
+#include "render/backends.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -38,8 +40,6 @@ namespace {
 std::string gActivity = "starting";
 
 void setActivity(std::string what) { gActivity = std::move(what); }
-
-
 
 // Creates the output folder and proves it is writable before any work is done.
 void prepareOutDir(const std::string &dir) {
@@ -73,16 +73,16 @@ void writeTextAtomically(const std::string &path, const std::string &text) {
   }
 }
 
-/// --info: what a render farm needs to split the work.
+std::string fileBytes(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// --info: the run plan, with what a render farm needs to split the work.
 int printInfo(const Options &opt) {
   SceneScript script(opt.scenePath, scriptOptionsOf(opt));
-  const SceneInfo info = effectiveSceneInfo(script.info(), opt);
-  const FrameSettings s = samplingSettings(info, opt);
-  std::printf("{\"frames\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,\"adaptive\":%s,"
-              "\"tile_rows\":%d,\"start_clock\":%.17g,\"end_clock\":%.17g}\n",
-              info.frames, info.imageWidth, info.imageHeight, info.samples,
-              s.adaptive ? "true" : "false", (info.imageHeight + kTileSize - 1) / kTileSize,
-              info.startClock, info.endClock);
+  const RunPlan plan = makeRunPlan(opt, script.info());
+  std::printf("%s\n", infoJson(plan, fileBytes(opt.scenePath), opt.infoTiles).c_str());
   return 0;
 }
 
@@ -111,58 +111,28 @@ int run(const Options &opt) {
   setActivity("loading the scene");
   SceneScript script(opt.scenePath, scriptOptionsOf(opt));
   stats.loadSeconds = secondsSince(t0);
-  const SceneInfo info = effectiveSceneInfo(script.info(), opt);
-
-  const FrameSettings sampling = samplingSettings(info, opt);
-
-  int first = opt.firstFrame.value_or(0);
-  int last = opt.lastFrame.value_or(info.frames - 1);
-  std::string stem = fs::path(opt.scenePath).stem().string();
+  const RunPlan plan = makeRunPlan(opt, script.info());
+  const SceneInfo &info = plan.info;
   stats.scene = opt.scenePath;
-  stats.backend = backendName(opt.backend);
+  stats.backend = backendName(plan.backend);
   stats.threads = threads;
   stats.width = info.imageWidth;
   stats.height = info.imageHeight;
   stats.samples = info.samples;
-  stats.sampling = sampling;
-
-  // --tile and --crop: one window of each frame, written as a tile.
-  FrameSettings frameSampling = sampling;
-  if (opt.tile) {
-    frameSampling.crop = tileBand(opt.tile->first, opt.tile->second, info.imageWidth, info.imageHeight);
-  } else if (opt.crop) {
-    const PixelWindow &c = *opt.crop;
-    if (c.x1 > info.imageWidth || c.y1 > info.imageHeight)
-      throw SceneError(fmt::format("--crop {}:{}:{}:{}: the window reaches outside the {} x {} frame",
-                                   c.x0, c.y0, c.x1, c.y1, info.imageWidth, info.imageHeight));
-    frameSampling.crop = c;
-  }
-  const bool tiled = !frameSampling.crop.empty();
-  const PixelWindow &window = frameSampling.crop;
-  std::string fingerprint;
-  if (tiled) {
-    std::ifstream in(opt.scenePath, std::ios::binary);
-    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    const AdaptiveSettings &a = sampling.adaptiveSettings;
-    fingerprint = renderFingerprint(
-        bytes, fmt::format("{}x{} samples {} adaptive {} {} {} {} seed {} light {} linear {} aovs {} backend {}",
-                           info.imageWidth, info.imageHeight, info.samples, sampling.adaptive,
-                           a.noiseThreshold, a.minSamples, a.maxSamples, sampling.seed,
-                           static_cast<int>(sampling.lightSampling), opt.linear, opt.aovs,
-                           stats.backend));
-  }
+  stats.sampling = plan.frameSettings;
+  stats.settings = plan.settingsJson();
+  const bool tiled = plan.tiled();
+  const PixelWindow &window = plan.frameSettings.crop;
+  const std::string fingerprint = tiled ? plan.fingerprint(fileBytes(opt.scenePath)) : "";
 
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
   bool warned = false;
-  for (int frame = first; frame <= last; frame += opt.frameStep) {
+  for (int frame : plan.frames()) {
     setActivity(fmt::format("preparing frame {}", frame));
     FrameStats frameStats;
-    const std::string finalName = frameFileName(stem, frame, info.frames, opt.format);
-    const std::string fileName = !tiled      ? finalName
-                                 : opt.tile ? tileFileName(finalName, opt.tile->first, opt.tile->second)
-                                            : cropFileName(finalName, window);
-    const std::string path = (fs::path(opt.outDir) / fileName).string();
+    const std::string finalName = plan.finalName(frame);
+    const std::string path = (fs::path(opt.outDir) / plan.outputName(frame)).string();
     frameStats.file = path;
     if (opt.skipExisting) {
       // A tile is done when it exists, or when its frame does (merged).
@@ -183,7 +153,7 @@ int run(const Options &opt) {
     bar.start(fmt::format("frame {}/{}", frame + 1, info.frames));
     Film film = renderScriptFrame(
         script, info, frame, stats.backend, images, frameStats,
-        [&bar](size_t done, size_t total) { bar.update(done, total); }, frameSampling);
+        [&bar](size_t done, size_t total) { bar.update(done, total); }, plan.frameSettings);
     bar.finish(frameStats.renderSeconds);
     if (!warned)
       for (const std::string &warning : frameStats.warnings)
@@ -221,73 +191,6 @@ std::string describeUnexpectedError(const std::exception &e) {
   std::string what = e.what();
   for (size_t at; (at = what.find("std::")) != std::string::npos;) what.erase(at, 5);
   return "internal error (" + what + "); please report it with the scene";
-}
-
-ScriptOptions scriptOptionsOf(const Options &opt) {
-  ScriptOptions s;
-  s.unsafe = opt.unsafe;
-  s.timeoutSeconds = opt.scriptTimeout;
-  s.memoryLimitBytes = opt.scriptMemory;
-  s.allowRead = opt.allowRead;
-  s.maxFileBytes = opt.maxFileBytes;
-  s.maxPixels = static_cast<uint64_t>(opt.maxPixels);
-  s.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
-  return s;
-}
-
-std::string frameFileName(const std::string &stem, int frame, int frameCount, ImageFormat format) {
-  std::string ext = formatExtension(format);
-  if (frameCount <= 1) return stem + "." + ext;
-  return fmt::format("{}{:04d}.{}", stem, frame, ext);
-}
-
-SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options) {
-  SceneInfo info = fromScript;
-  if (options.width) info.imageWidth = *options.width;
-  if (options.height) info.imageHeight = *options.height;
-  if (options.samples) info.samples = *options.samples;
-  validateSceneInfo(info, static_cast<uint64_t>(options.maxPixels), options.scenePath);
-  if (options.lastFrame && *options.lastFrame >= info.frames)
-    throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
-                                 *options.firstFrame, *options.lastFrame, info.frames,
-                                 info.frames == 1 ? "" : "s", info.frames - 1));
-  return info;
-}
-
-FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
-  FrameSettings s;
-  const double threshold = options.noiseThreshold.value_or(info.noiseThreshold);
-  s.adaptive = threshold > 0 || options.timeLimit > 0;
-  if (!s.adaptive && (options.minSamples || options.maxSamples))
-    throw SceneError("--min-samples and --max-samples apply to adaptive sampling: give "
-                     "--noise-threshold or --time-limit too (or set scene_info.noise_threshold)");
-  AdaptiveSettings &a = s.adaptiveSettings;
-  a.noiseThreshold = threshold;
-  a.timeLimit = options.timeLimit;
-  a.maxSamples = options.maxSamples.value_or(std::max(a.maxSamples, options.minSamples.value_or(0)));
-  a.minSamples = options.minSamples.value_or(std::min(a.minSamples, a.maxSamples));
-  if (a.minSamples > a.maxSamples)
-    throw SceneError(fmt::format("--min-samples ({}) is above --max-samples ({})", a.minSamples,
-                                 a.maxSamples));
-  // The first pass's samples are split into two halves for the estimate;
-  // 1 is the centre-first pass (tile_renderer_impl.h).
-  if (a.minSamples > 1 && a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
-  s.aovs = options.aovs;
-  s.seed = options.seed;
-  s.shadowSkips = !options.noShadowSkips;
-  s.lightSampling =
-      options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);
-  if (s.adaptive) {
-    const long double work = static_cast<long double>(info.imageWidth) * info.imageHeight *
-                             a.maxSamples;
-    if (work > static_cast<long double>(options.maxPixels))
-      throw SceneError(fmt::format(
-          "{}: image_width * image_height * max samples = {} exceeds the limit of {} (lower "
-          "--max-samples or raise --max-pixels)",
-          options.scenePath, static_cast<unsigned long long>(work),
-          static_cast<unsigned long long>(options.maxPixels)));
-  }
-  return s;
 }
 
 int runLray(int argc, const char *const *argv) {

@@ -2,7 +2,7 @@
 #include "app/merge.h"
 
 #include "render/tile_file.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

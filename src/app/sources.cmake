@@ -1,5 +1,4 @@
-list(APPEND LRAY_CORE_SOURCES src/app/options.cpp src/app/progress_bar.cpp src/app/render_stats.cpp
-                              src/app/frame_pipeline.cpp src/app/app.cpp src/app/merge.cpp
+list(APPEND LRAY_CORE_SOURCES src/app/progress_bar.cpp src/app/app.cpp src/app/merge.cpp
                               src/app/watch/file_watcher.cpp src/app/watch/preview_state.cpp
                               src/app/watch/preview_server.cpp
                               src/app/watch/watch_loop.cpp)

@@ -22,7 +22,7 @@
 // thread count (each ray's answer depends on that ray alone).
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "geometry/shapes/csg.h"
 #include "math/ray.h"
 

@@ -4,7 +4,7 @@
 // addNode/addLeaf, parents before children, then finish().
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/csg.h"
 #include "scene/scene.h"
 

@@ -1,7 +1,7 @@
 // Pipeline: geometry. See float_frame.h.
 #include "geometry/float_frame.h"
 
-#include "geometry/error_bound.h"
+#include "math/error_bound.h"
 #include "geometry/shape.h"
 
 #include <unordered_map>

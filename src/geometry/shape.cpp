@@ -7,10 +7,10 @@
 // one dispatch; no allocation: both backends call this per ray.
 #include "geometry/shape.h"
 
-#include "geometry/affine.h"
+#include "math/affine.h"
 #include "geometry/csg_ray.h"
 #include "geometry/csg_tree.h"
-#include "geometry/error_bound.h"
+#include "math/error_bound.h"
 
 namespace lray {
 

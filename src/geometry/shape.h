@@ -3,8 +3,8 @@
 // so the two cannot disagree about a shape.
 #pragma once
 
-#include "geometry/bounds.h"
-#include "geometry/hit.h"
+#include "math/bounds.h"
+#include "math/hit.h"
 #include "geometry/shapes/span.h"
 #include "math/ray.h"
 #include "scene/scene.h"

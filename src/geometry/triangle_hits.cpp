@@ -5,7 +5,7 @@
 // IEEE operations in the same order as fillTriangleHit (no contraction:
 // the baseline target has no FMA and the AVX2 variant does not enable it),
 // so the hits are the same bit for bit (tests/geometry/triangle_hit_test).
-#include "geometry/error_bound.h"
+#include "math/error_bound.h"
 #include "geometry/shape.h"
 
 #include <cstring>

@@ -58,7 +58,7 @@ public:
   bool isIdentity() const { return identity_; }
   /// Infinity norm (largest absolute row sum) of the linear part of the
   /// matrix, of the inverse's, and the largest absolute translation component
-  /// of each: the constants of geometry/error_bound.h's rule, computed once
+  /// of each: the constants of math/error_bound.h's rule, computed once
   /// here instead of on every hit.
   double linearNorm() const { return norms_[0]; }
   double inverseLinearNorm() const { return norms_[1]; }

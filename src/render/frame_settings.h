@@ -9,10 +9,17 @@
 
 namespace lray {
 
+/// How light transport is computed (render/backends.cpp pairs each with
+/// each backend).
+enum class IntegratorKind {
+  Whitted, ///< lua/README.md, "Shading": lights, mirror and refraction rays
+};
+constexpr size_t kIntegratorKinds = 1;
+
 /// How a pixel sample lights a point under an area light of K cells.
 enum class LightSampling {
   All,    ///< every sample shades every cell (SPEC 6)
-  Spread, ///< the samples of a pixel share the cells out: see light_strata.h
+  Spread, ///< the samples of a pixel share the cells out (Integrator's lightShares)
 };
 
 /// Progressive sampling: passes of Owen-scrambled Sobol samples until
@@ -44,6 +51,7 @@ struct FrameSettings {
     return static_cast<uint64_t>(static_cast<uint32_t>(frameIndex)) |
            (static_cast<uint64_t>(seed) << 32);
   }
+  IntegratorKind integrator = IntegratorKind::Whitted;
   bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
   AdaptiveSettings adaptiveSettings;
   LightSampling lightSampling = LightSampling::All;

@@ -1,6 +1,5 @@
 // Pipeline: render. Renders one frame of a converted scene with a built
-// backend, whichever it is: the backend runs the tile loop of
-// tile_renderer.h instantiated for its own type (Accelerator::render).
+// backend, whichever it is, through the table of render/backends.h.
 #pragma once
 
 #include "accel/accelerator.h"
@@ -13,8 +12,10 @@ namespace lray {
 
 class ImageCache;
 
-/// Renders `scene` into a new film. Returns the rays traced, by kind.
-/// Non-finite sample values are replaced by black and counted.
+/// Renders `scene` into a new film with `accel` (built over it by a
+/// backend of render/backends.h) and the integrator `settings` names.
+/// Adds the rays traced, by kind, to `counts`. Non-finite sample values are
+/// replaced by black and counted.
 Film renderFrame(const Scene &scene, const Accelerator &accel, const ImageCache &images,
                  const FrameSettings &settings, RayCounts &counts,
                  const ProgressFn &progress = nullptr);

@@ -1,7 +1,7 @@
 // Pipeline: render (last stage). See tile_file.h.
 #include "render/tile_file.h"
 
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 #include "shading/oiio_library.h"
 
 #include <fmt/format.h>

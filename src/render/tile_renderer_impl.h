@@ -1,5 +1,6 @@
 // Pipeline: render. The definition of tile_renderer.h; included only where
-// it is instantiated for a concrete backend.
+// it is instantiated for a concrete backend and integrator
+// (render/backends.cpp, and the tests' brute-force accelerator).
 #pragma once
 
 #include "math/random.h"
@@ -61,7 +62,7 @@ inline uint64_t pixelPatternSeed(uint64_t stream, uint64_t pixel) {
 
 /// Work arrays of one thread: the camera rays of one sample index over a
 /// tile's pixels, and each pixel's sums over the samples it takes.
-template <class Accel> struct TileWork {
+template <class Integ> struct TileWork {
   std::array<Ray, kTilePixels> rays;
   std::array<Hit, kTilePixels> hits;
   std::array<uint8_t, kTilePixels> found;
@@ -73,7 +74,7 @@ template <class Accel> struct TileWork {
   std::array<Color, kTilePixels> sums, oddSums;
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
-  static_assert(kTilePixels <= Integrator<Accel>::kMaxTileRays);
+  static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
 
 /// The pixels to render: settings.crop within the frame, or all of it.
@@ -115,10 +116,10 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 /// consecutive indices (neighbouring rays either way, so each batch's camera
 /// and shadow rays stay coherent, and the batches are always full). A
 /// pixel's samples are summed in index order, whatever the batches.
-template <class Accel, class Position>
-void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const CameraRays &camera,
+template <class Accel, class Integ, class Position>
+void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
-                bool spreadLight, bool pairedStrata, const Position &position, tile_detail::TileWork<Accel> &work,
+                bool spreadLight, bool pairedStrata, const Position &position, tile_detail::TileWork<Integ> &work,
                 RayCounts &counts) {
   const size_t count = rect.pixels();
   uint32_t begin = end;
@@ -176,8 +177,8 @@ void sampleTile(const Accel &accel, const Integrator<Accel> &integrator, const C
 /// Fills the film's depth, normal and albedo layers: a 4 x 4 grid of camera
 /// rays through each pixel (cell centres, the same for any sampling), the
 /// first hits averaged. Costs one camera ray per grid point and no shading.
-template <class Accel>
-void renderAovs(const Accel &accel, const Integrator<Accel> &integrator, const Scene &scene,
+template <class Accel, class Integ>
+void renderAovs(const Accel &accel, const Integ &integrator, const Scene &scene,
                 const CameraRays &camera, const FrameSettings &settings, Film &film) {
   constexpr int kGrid = 4;
   film.enableAovs();
@@ -217,7 +218,7 @@ void renderAovs(const Accel &accel, const Integrator<Accel> &integrator, const S
   });
 }
 
-template <class Accel>
+template <class Integ, class Accel>
 void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &images,
                  const FrameSettings &settings, Film &film, RayCounts &counts,
                  const ProgressFn &progress) {
@@ -239,7 +240,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       : settings.adaptive ? std::max<uint32_t>(1, firstSobolPass(minSamples, maxSamples) / 2)
                           : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
   const bool pairedStrata = settings.adaptive;
-  const Integrator<Accel> integrator(scene, accel, images, shares, settings.shadowSkips);
+  const Integ integrator(scene, accel, images, shares, settings.shadowSkips);
   const CameraRays camera(scene.camera, settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
@@ -276,7 +277,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
       setFlushToZero();
-      static thread_local TileWork<Accel> work;
+      static thread_local TileWork<Integ> work;
       RayCounts &local = perThread.local();
       for (size_t tile = r.begin(); tile != r.end(); ++tile) {
         const TileRect rect(tile, tilesX, settings.width, settings.height);
@@ -311,9 +312,9 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // sample and go on with Sobol passes from 4.
   const bool centreFirst = minSamples == 1;
   const uint32_t firstSobol = firstSobolPass(minSamples, maxSamples);
-  std::optional<Integrator<Accel>> allCells;
+  std::optional<Integ> allCells;
   if (centreFirst && shares > 1) allCells.emplace(scene, accel, images, 1, settings.shadowSkips);
-  const Integrator<Accel> &centreIntegrator = allCells ? *allCells : integrator;
+  const Integ &centreIntegrator = allCells ? *allCells : integrator;
   auto centrePosition = [](int x, int y, uint64_t, uint32_t, Sampler &, double &px, double &py) {
     px = x + 0.5;
     py = y + 0.5;
@@ -345,7 +346,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     std::atomic<size_t> tilesDone{0};
     tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
       setFlushToZero();
-      static thread_local TileWork<Accel> work;
+      static thread_local TileWork<Integ> work;
       RayCounts &local = perThread.local();
       for (size_t tile = r.begin(); tile != r.end(); ++tile) {
         const TileRect rect(tile, tilesX, settings.width, settings.height);

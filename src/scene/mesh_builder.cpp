@@ -1,7 +1,7 @@
 // Pipeline: scene description. MeshSource -> MeshData (see mesh_builder.h).
 #include "scene/mesh_builder.h"
 
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <cmath>
 #include <string>

@@ -3,7 +3,7 @@
 
 #include "scene/scene_checks.h"
 
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <charconv>
 #include <cmath>

@@ -8,8 +8,8 @@
 #include "math/transform.h"
 #include "math/vec3.h"
 #include "scene/mesh_data.h"
-#include "scene/scene_error.h"
-#include "scene/texture_map.h"
+#include "util/scene_error.h"
+#include "shading/pigments/texture_map.h"
 #include "shading/pigments/pigment_list.h"
 #include "shading/lights/light_list.h"
 

@@ -12,7 +12,7 @@
 namespace lray {
 
 /// Default cap on image_width * image_height * samples^2 (--max-pixels; the
-/// CLI default in src/app/options.h is the same 1e9).
+/// CLI default in src/run/options.h is the same 1e9).
 inline constexpr uint64_t kDefaultMaxPixels = 1000000000;
 
 /// Default cap on one light's shadow rays per shading point

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "scene/scene.h"
-#include "shading/texture_image.h"
+#include "shading/pigments/texture_image.h"
 
 #include <cstddef>
 #include <memory>

@@ -7,7 +7,7 @@
 // instance per frame; const and thread-safe while rendering.
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "math/color.h"
 #include "math/random.h"
 #include "math/ray.h"

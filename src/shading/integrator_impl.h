@@ -4,7 +4,7 @@
 // per backend, in src/accel/, and the tests' brute-force accelerator).
 #pragma once
 
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "shading/integrator.h"
 #include "shading/phong.h"
 

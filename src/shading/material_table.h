@@ -3,7 +3,7 @@
 // entity's, or for a CSG entity its leaf's (Hit::primitive).
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "scene/scene.h"
 #include "shading/phong.h"
 

@@ -5,8 +5,8 @@
 // (oiio_module.cpp, liblray_oiio.so) holds all of LRay's OpenImageIO code.
 #pragma once
 
-#include "scene/scene_error.h"
-#include "shading/texture_image.h"
+#include "util/scene_error.h"
+#include "shading/pigments/texture_image.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // Pipeline: shading. See shadow_shaft.h.
 #include "shading/shadow_shaft.h"
 
-#include "geometry/error_bound.h"
+#include "math/error_bound.h"
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
 

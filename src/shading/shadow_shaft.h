@@ -7,7 +7,7 @@
 // as tracing them (tests/shading/shadow_shaft_test.cpp, both backends).
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "math/ray.h"
 #include "scene/scene.h"
 

@@ -6,8 +6,8 @@
 // both read; a broken PNG is reported here.
 #pragma once
 
-#include "scene/scene_error.h"
-#include "shading/texture_image.h"
+#include "util/scene_error.h"
+#include "shading/pigments/texture_image.h"
 
 #include <optional>
 #include <string>

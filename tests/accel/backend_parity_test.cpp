@@ -1,12 +1,12 @@
 // Geometry through both backends (SPEC 8): the same scene gives the same
 // closest entity, t and hit record from Embree and from the kd-tree, and
 // both agree with a brute-force double-precision reference.
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "accel/kdtree/kdtree_accelerator.h"
 #include "shape_params.h"
 
 #include "accel_test_scenes.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 
 #include <gtest/gtest.h>
 

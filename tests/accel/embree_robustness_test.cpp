@@ -1,10 +1,10 @@
 // Robustness tests for the Embree backend with the shared geometry code:
 // watertightness of a closed mesh (pbrt-style probe) and self-intersection
-// of secondary rays spawned with geometry/spawn.h at extreme scales.
+// of secondary rays spawned with math/spawn.h at extreme scales.
 #include "accel/embree/embree_accelerator.h"
 
 #include "accel_test_scenes.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 
 #include <gtest/gtest.h>
 

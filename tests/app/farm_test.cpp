@@ -6,7 +6,7 @@
 
 #include "render/frame_settings.h"
 #include "render/tile_file.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <gtest/gtest.h>
 

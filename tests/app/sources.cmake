@@ -1,4 +1,3 @@
-list(APPEND LRAY_TEST_SOURCES tests/app/options_test.cpp)
 list(APPEND LRAY_TEST_SOURCES tests/app/cli_test.cpp)
 list(APPEND LRAY_TEST_SOURCES tests/app/farm_test.cpp)
 list(APPEND LRAY_TEST_SOURCES tests/app/watch_test.cpp)

@@ -8,6 +8,7 @@
 #include "bindings/scene_script.h"
 #include "render/renderer.h"
 #include "shading/image_cache.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>

@@ -4,7 +4,7 @@
 // report, another exception or an invariant failure below is a bug.
 #include "scene/mesh_builder.h"
 #include "scene/obj_loader.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <cmath>
 #include <cstdint>

@@ -6,7 +6,7 @@
 // trees (every operator, every solid, planes, coincident placements, open
 // cylinders the converter would refuse) with textures per solid. A crash, a
 // sanitizer report or a non-finite sample (RayCounts::nonFinite > 0) is a bug.
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "geometry/csg_tree.h"
 #include "render/renderer.h"
 #include "scene/mesh_builder.h"

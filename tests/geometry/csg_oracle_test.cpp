@@ -7,7 +7,7 @@
 // at that point (POV-Ray's rules, written out again by recursion on the
 // tree as written). The hit must match it: t, the solid, the side the
 // normal faces, and occlusion just before and after it.
-#include "accel/accelerator.h"
+#include "render/backends.h"
 
 #include "csg_test_trees.h"
 

@@ -3,10 +3,10 @@
 // inner surfaces against Merge, half-spaces, coincident faces, bounds.
 #include "geometry/csg_ray.h"
 
-#include "accel/accelerator.h"
+#include "render/backends.h"
 
 #include "csg_test_trees.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 
 #include <gtest/gtest.h>
 

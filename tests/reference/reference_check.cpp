@@ -7,10 +7,11 @@
 // On failure it writes the new image, the reference and an amplified
 // difference into --report-dir and regenerates index.html there.
 // With LRAY_UPDATE_REFERENCES=1 it (re)writes the reference instead.
-#include "app/frame_pipeline.h"
+#include "run/frame_pipeline.h"
 #include "bindings/scene_script.h"
 #include "render/image_writer.h"
 #include "shading/image_cache.h"
+#include "render/backends.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>

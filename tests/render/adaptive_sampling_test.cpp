@@ -3,7 +3,7 @@
 // determinism across thread counts, the stopping rule, error against a
 // converged reference falling with the threshold, the unbiasedness of
 // spreading a light's cells over a pixel's samples, and time limits.
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "render/owen_sobol.h"
 #include "render/pixel_error.h"
 #include "render/renderer.h"

@@ -1,6 +1,6 @@
 // MeshSource -> MeshData: fanning, normals, uvs, index validation.
 #include "scene/mesh_builder.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <gtest/gtest.h>
 

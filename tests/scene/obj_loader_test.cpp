@@ -1,6 +1,6 @@
 // The native OBJ reader behind mesh_from_obj (SPEC 5).
 #include "scene/obj_loader.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <gtest/gtest.h>
 

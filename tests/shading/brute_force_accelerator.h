@@ -7,7 +7,11 @@
 #pragma once
 
 #include "accel/accelerator.h"
-#include "geometry/hit.h"
+#include "render/film.h"
+#include "render/frame_settings.h"
+#include "shading/image_cache.h"
+#include "shading/ray_counts.h"
+#include "math/hit.h"
 #include "geometry/shape.h"
 #include "math/ray.h"
 #include "geometry/float_frame.h"
@@ -60,10 +64,6 @@ public:
     for (size_t i = 0; i < count; ++i) occ[i] = occluded(rays[i]) ? 1 : 0;
   }
   AcceleratorStats stats() const override { return {}; }
-  /// A whole frame through the same tile loop and integrator as the real
-  /// backends (brute_force_render.cpp).
-  void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
-              Film &film, RayCounts &counts, const ProgressFn &progress) const override;
 
 private:
   bool intersectEntity(uint32_t index, const Ray &worldRay, Hit &hit) const {
@@ -174,5 +174,12 @@ private:
   bool shared_;
   std::vector<Transform> objectFromWorld_;
 };
+
+/// A frame through the same tile loop and integrator as the real backends
+/// (brute_force_render.cpp); chosen over render/renderer.h's renderFrame for
+/// this accelerator, which no backend of render/backends.h built.
+Film renderFrame(const Scene &scene, const BruteForceAccelerator &accel, const ImageCache &images,
+                 const FrameSettings &settings, RayCounts &counts,
+                 const ProgressFn &progress = nullptr);
 
 } // namespace lray::testing

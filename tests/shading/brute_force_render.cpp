@@ -1,19 +1,22 @@
 // The integrator and the tile loop instantiated for the tests' brute-force
-// accelerator, as src/accel/*/..._render.cpp do for the real backends.
+// accelerator, as render/backends.cpp does for the real backends.
 #include "shading/brute_force_accelerator.h"
 
 #include "render/tile_renderer_impl.h"
 
 namespace lray {
 
+// integrator_test.cpp calls the integrator directly too.
 template class Integrator<testing::BruteForceAccelerator>;
 
 namespace testing {
 
-void BruteForceAccelerator::render(const Scene &scene, const ImageCache &images,
-                                   const FrameSettings &settings, Film &film, RayCounts &counts,
-                                   const ProgressFn &progress) const {
-  renderTiles(*this, scene, images, settings, film, counts, progress);
+Film renderFrame(const Scene &scene, const BruteForceAccelerator &accel, const ImageCache &images,
+                 const FrameSettings &settings, RayCounts &counts, const ProgressFn &progress) {
+  Film film(settings.width, settings.height);
+  renderTiles<Integrator<BruteForceAccelerator>>(accel, scene, images, settings, film, counts,
+                                                 progress);
+  return film;
 }
 
 } // namespace testing

@@ -1,6 +1,6 @@
 // Tests for src/shading/perlin_noise: the properties of improved noise that
 // the marble and wood pigments rely on, and the turbulence octave sum.
-#include "shading/perlin_noise.h"
+#include "shading/pigments/perlin_noise.h"
 
 #include "math/random.h"
 

@@ -1,7 +1,7 @@
 // Tests for src/shading/pigment: every pigment kind at hand-computed points.
 #include "shading/pigment.h"
 
-#include "shading/perlin_noise.h"
+#include "shading/pigments/perlin_noise.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // on both backends, with rays really skipped.
 #include "shading/shadow_shaft.h"
 
-#include "app/frame_pipeline.h"
+#include "run/frame_pipeline.h"
 #include "bindings/scene_script.h"
 #include "shading/image_cache.h"
 

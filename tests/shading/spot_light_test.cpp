@@ -1,7 +1,7 @@
 // Tests for src/shading/lights/spot_light.h: the cone's factor, the check
 // of its angles, and a frame lit by a SpotLight through both backends and
 // the brute-force accelerator, pixel for pixel the same.
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "render/renderer.h"
 #include "shading/brute_force_accelerator.h"
 #include "shading/image_cache.h"

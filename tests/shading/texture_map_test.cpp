@@ -1,5 +1,5 @@
 // Tests for src/shading/texture_map: each map at hand-computed points.
-#include "shading/texture_map.h"
+#include "shading/pigments/texture_map.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,7 @@
 // Robustness suite (issue 8): the kd-tree and Embree agree on the entity
 // hit by at least 99.99 % of the primary rays of every stress scene.
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,10 @@
 // Secondary rays leaving a CSG surface (reflected back, continuing
 // through, and towards a light) must not find that surface again.
 #include "geometry/csg_tree.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "geometry/csg_test_trees.h"
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

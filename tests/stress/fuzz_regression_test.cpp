@@ -2,7 +2,7 @@
 // tests/fuzz/ (bench/fuzz), kept as regression tests.
 #include "scene/mesh_builder.h"
 #include "scene/obj_loader.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <gtest/gtest.h>
 

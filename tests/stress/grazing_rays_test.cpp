@@ -7,6 +7,7 @@
 #include "scene/mesh_builder.h"
 #include "shape_params.h"
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,10 @@
 // `0/0`, `1/0`) are rejected with a SceneError when the script loads or
 // its frame is built, never dropped silently and never carried into the
 // render; and scenes with extreme but finite finishes render no NaN/Inf.
-#include "app/frame_pipeline.h"
+#include "run/frame_pipeline.h"
 #include "bindings/scene_script.h"
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

@@ -4,6 +4,7 @@
 // backends.
 #include "long_double_root.h"
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,9 @@
 // self-shadowing on lit surfaces, checks that an occluder 1e-3 x scale away
 // still casts its shadow (the spawn offset does not jump over it), and that
 // images of the moved scene match the original.
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "stress/stress_scenes.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "accel/accel_test_scenes.h"
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "geometry/shape.h"
 #include "render/camera_rays.h"
 #include "render/film.h"

@@ -40,9 +40,6 @@ public:
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
   AcceleratorStats stats() const override { return stats_; }
-  /// The tile loop and integrator for this backend (embree_render.cpp).
-  void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
-              Film &film, RayCounts &counts, const ProgressFn &progress) const override;
 
   /// Per analytic entity: what its Embree callbacks need.
   struct ShapeRef {

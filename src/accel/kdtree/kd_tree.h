@@ -8,7 +8,7 @@
 
 #include "accel/kdtree/kd_node.h"
 #include "accel/kdtree/sah_cost_model.h"
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "math/ray.h"
 
 #include <algorithm>

@@ -36,9 +36,6 @@ public:
   /// primitives: analytic shapes + triangles of the distinct meshes;
   /// instances: mesh entities (each an instance of a bottom-level tree).
   AcceleratorStats stats() const override { return stats_; }
-  /// The tile loop and integrator for this backend (kdtree_render.cpp).
-  void render(const Scene &scene, const ImageCache &images, const FrameSettings &settings,
-              Film &film, RayCounts &counts, const ProgressFn &progress) const override;
 
   /// The top-level tree over entities (for tests and benchmarks).
   const KdTree &topLevelTree() const { return top_; }

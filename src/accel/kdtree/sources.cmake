@@ -3,5 +3,4 @@ list(APPEND LRAY_CORE_SOURCES
   src/accel/kdtree/kd_tree_build.cpp
   src/accel/kdtree/triangle_clip.cpp
   src/accel/kdtree/triangle_prefilter_avx2.cpp
-  src/accel/kdtree/kdtree_accelerator.cpp
-  src/accel/kdtree/kdtree_render.cpp)
+  src/accel/kdtree/kdtree_accelerator.cpp)

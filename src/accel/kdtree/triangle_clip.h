@@ -3,7 +3,7 @@
 // split candidates come from the clipped triangle, not its whole bounds.
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "math/vec3.h"
 
 namespace lray {

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "accel/kdtree/watertight_triangle.h"
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 
 #include <emmintrin.h>
 

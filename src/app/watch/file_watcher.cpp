@@ -1,7 +1,7 @@
 // Pipeline: application (live preview). See file_watcher.h.
 #include "app/watch/file_watcher.h"
 
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <poll.h>
 #include <sys/inotify.h>

@@ -4,7 +4,7 @@
 // beside the executable.
 #include "app/watch/preview_server.h"
 
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 
 #include <dlfcn.h>
 

@@ -27,7 +27,7 @@ struct PreviewStatus {
   int width = 0, height = 0;
   std::string backend;
   std::vector<std::string> backends;
-  std::string statsJson = "{}"; ///< --stats of the last pass (app/render_stats.h)
+  std::string statsJson = "{}"; ///< --stats of the last pass (run/render_stats.h)
   std::string scene;            ///< the scene file
 };
 

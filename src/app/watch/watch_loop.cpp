@@ -1,8 +1,10 @@
 // Pipeline: application (live preview). See watch_loop.h.
 #include "app/watch/watch_loop.h"
 
-#include "app/app.h"
-#include "app/render_stats.h"
+#include "run/limit_options.h"
+#include "run/run_plan.h"
+#include "run/sampling_options.h"
+#include "run/render_stats.h"
 #include "app/watch/file_watcher.h"
 #include "app/watch/preview_server.h"
 #include "app/watch/preview_state.h"
@@ -10,6 +12,7 @@
 #include "render/image_writer.h"
 #include "render/renderer.h"
 #include "shading/image_cache.h"
+#include "render/backends.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>

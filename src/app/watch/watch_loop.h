@@ -6,7 +6,7 @@
 // script error is shown and the last good image stays. Ends on Ctrl-C.
 #pragma once
 
-#include "app/options.h"
+#include "run/options.h"
 
 namespace lray {
 

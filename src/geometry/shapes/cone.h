@@ -4,7 +4,7 @@
 // v = (z + 1) / 2).
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 

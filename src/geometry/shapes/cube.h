@@ -3,7 +3,7 @@
 // 0 = x; the faces' uv orientation is in cube.cpp.
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 

@@ -4,7 +4,7 @@
 // (y = 1); caps have u = (x + 1) / 2, v = (z + 1) / 2.
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 

@@ -2,8 +2,8 @@
 // shapes built from discs (Cylinder, Cone).
 #pragma once
 
-#include "geometry/affine.h"
-#include "geometry/bounds.h"
+#include "math/affine.h"
+#include "math/bounds.h"
 
 #include <cmath>
 

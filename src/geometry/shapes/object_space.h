@@ -4,7 +4,7 @@
 // double helpers of the grazing-hit refinement. World space is shape.cpp's.
 #pragma once
 
-#include "geometry/error_bound.h"
+#include "math/error_bound.h"
 #include "geometry/shapes/span.h"
 #include "math/constants.h"
 #include "math/ray.h"

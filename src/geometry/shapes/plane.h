@@ -4,7 +4,7 @@
 // out of their trees (accel/unbounded_shapes.h).
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 

@@ -5,7 +5,7 @@
 // towards +y. The ray test is the quartic's, solved robustly (torus.cpp).
 #pragma once
 
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 

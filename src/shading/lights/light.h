@@ -8,7 +8,7 @@
 #include "math/color.h"
 #include "math/random.h"
 #include "math/transform.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 #include "shading/lights/light_sample.h"
 
 #include <cstdint>

@@ -8,7 +8,7 @@
 #include "math/constants.h"
 #include "math/random.h"
 #include "math/transform.h"
-#include "scene/scene_error.h"
+#include "util/scene_error.h"
 #include "shading/lights/light_sample.h"
 
 #include <cmath>

@@ -1,7 +1,7 @@
 // Pipeline: shading. See checker_pigment_2d.h.
 #include "shading/pigments/checker_pigment_2d.h"
 
-#include "shading/texture_map.h"
+#include "shading/pigments/texture_map.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // Pipeline: shading. ImagePigment2D (SPEC 7): an image looked up at the
-// map's (s, t), repeating every 1 (shading/texture_image.h); black when the
+// map's (s, t), repeating every 1 (shading/pigments/texture_image.h); black when the
 // image was not loaded.
 #pragma once
 

@@ -3,10 +3,10 @@
 // map that turns the hit into the pigment's lookup point.
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "math/color.h"
-#include "scene/texture_map.h"
-#include "shading/texture_image.h"
+#include "shading/pigments/texture_map.h"
+#include "shading/pigments/texture_image.h"
 
 #include <cstddef>
 #include <cstdint>

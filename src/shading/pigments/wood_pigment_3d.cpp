@@ -1,9 +1,9 @@
 // Pipeline: shading. See wood_pigment_3d.h.
 #include "shading/pigments/wood_pigment_3d.h"
 
-#include "shading/perlin_noise.h"
+#include "shading/pigments/perlin_noise.h"
 #include "shading/pigments/sine_blend.h"
-#include "shading/texture_map.h"
+#include "shading/pigments/texture_map.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_clip.h"
 #include "accel/kdtree/watertight_triangle.h"
-#include "geometry/bounds.h"
+#include "math/bounds.h"
 #include "math/ray.h"
 #include "scene/mesh_data.h"
 

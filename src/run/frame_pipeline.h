@@ -3,8 +3,8 @@
 // reference-image checker so both render exactly the same way.
 #pragma once
 
-#include "accel/accelerator.h"
-#include "app/render_stats.h"
+#include "render/backends.h"
+#include "run/render_stats.h"
 #include "render/film.h"
 #include "render/renderer.h"
 #include "scene/scene.h"

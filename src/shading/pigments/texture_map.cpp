@@ -1,6 +1,6 @@
 // Pipeline: shading. Texture map formulas; see texture_map.h for the
 // exact definitions of each map.
-#include "shading/texture_map.h"
+#include "shading/pigments/texture_map.h"
 
 #include "math/constants.h"
 

@@ -3,7 +3,7 @@
 // vertices and edges and far from the origin, and rejects clear misses; its
 // AVX2 version (triangle_prefilter_avx2.cpp) agrees lane by lane.
 #include "accel/kdtree/triangle_prefilter.h"
-#include "kdtree/kdtree_test_util.h"
+#include "accel/kdtree/kdtree_test_util.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Pipeline: application. What --stats FILE reports, as JSON.
+// Pipeline: run. What --stats FILE reports, as JSON.
 #pragma once
 
 #include "accel/accelerator.h"
@@ -35,6 +35,7 @@ struct RunStats {
   int threads = 0;
   int width = 0, height = 0, samples = 0;
   FrameSettings sampling; ///< the adaptive and light-sampling choices
+  std::string settings;   ///< the run plan's settings as JSON (RunPlan::settingsJson)
   double loadSeconds = 0; ///< running the script file itself
   double totalSeconds = 0;
   size_t peakMemoryBytes = 0;

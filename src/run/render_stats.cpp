@@ -1,6 +1,8 @@
-// Pipeline: application. JSON for --stats (flat, hand-written: no JSON
+// Pipeline: run. JSON for --stats (flat, hand-written: no JSON
 // library needed for numbers and a few escaped strings).
-#include "app/render_stats.h"
+#include "run/render_stats.h"
+
+#include "util/json_string.h"
 
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -10,22 +12,6 @@
 namespace lray {
 
 namespace {
-
-std::string quoted(const std::string &s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-    case '"': out += "\\\""; break;
-    case '\\': out += "\\\\"; break;
-    case '\n': out += "\\n"; break;
-    case '\t': out += "\\t"; break;
-    default:
-      if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", c);
-      else out += c;
-    }
-  }
-  return out + "\"";
-}
 
 std::string raysJson(const RayCounts &r) {
   return fmt::format(R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, "refraction": {}, "total": {}}})",
@@ -72,8 +58,8 @@ std::string toJson(const RunStats &s) {
     nonFinite += f.rays.nonFinite;
   }
   std::string out = "{\n";
-  out += fmt::format("  \"lray_version\": {},\n", quoted(LRAY_VERSION));
-  out += fmt::format("  \"scene\": {},\n  \"backend\": {},\n", quoted(s.scene), quoted(s.backend));
+  out += fmt::format("  \"lray_version\": {},\n", jsonString(LRAY_VERSION));
+  out += fmt::format("  \"scene\": {},\n  \"backend\": {},\n", jsonString(s.scene), jsonString(s.backend));
   out += fmt::format("  \"threads\": {},\n  \"width\": {},\n  \"height\": {},\n  \"samples\": {},\n",
                      s.threads, s.width, s.height, s.samples);
   out += fmt::format("  \"times\": {{\"load_script\": {:.6f}, \"scene\": {:.6f}, \"images\": {:.6f}, "
@@ -88,6 +74,7 @@ std::string toJson(const RunStats &s) {
       s.sampling.adaptive ? a.noiseThreshold : 0.0, s.sampling.adaptive ? a.minSamples : 0,
       s.sampling.adaptive ? a.maxSamples : 0, s.sampling.adaptive ? a.timeLimit : 0.0,
       s.sampling.seed);
+  if (!s.settings.empty()) out += fmt::format("  \"settings\": {},\n", s.settings);
   const double pixels = static_cast<double>(s.width) * s.height * static_cast<double>(s.frames.size());
   out += fmt::format("  \"camera_samples\": {},\n  \"samples_per_pixel\": {:.6g},\n", samples,
                      pixels > 0 ? static_cast<double>(samples) / pixels : 0);
@@ -105,7 +92,7 @@ std::string toJson(const RunStats &s) {
         R"({{"frame": {}, "clock": {}, "file": {}, "entities": {}, "lights": {}, "primitives": {}, "instances": {}, )"
         R"("accel_memory_bytes": {}, "times": {{"scene": {:.6f}, "images": {:.6f}, "build": {:.6f}, "render": {:.6f}, "write": {:.6f}}}, )"
         R"("rays": {}, "non_finite_samples": {}, "sampling": {}}})",
-        f.frame, f.clock, quoted(f.file), f.entities, f.lights, f.accel.primitives, f.accel.instances,
+        f.frame, f.clock, jsonString(f.file), f.entities, f.lights, f.accel.primitives, f.accel.instances,
         f.accel.memoryBytes, f.sceneSeconds, f.imageSeconds, f.accel.buildSeconds, f.renderSeconds,
         f.writeSeconds, raysJson(f.rays), f.rays.nonFinite, frameSamplingJson(f, s.width, s.height));
   }

@@ -4,9 +4,9 @@
 
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
-#include "geometry/spawn.h"
+#include "math/spawn.h"
 #include "hit_expect.h"
-#include "kdtree/kdtree_test_util.h"
+#include "accel/kdtree/kdtree_test_util.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // 0..255 hashes each lattice corner to one of 12 gradient directions (the
 // edge midpoints of a cube, padded to 16 so a 4-bit hash picks them without
 // a modulo), blended with the quintic fade 6t^5 - 15t^4 + 10t^3.
-#include "shading/perlin_noise.h"
+#include "shading/pigments/perlin_noise.h"
 
 #include "math/random.h"
 

@@ -1,8 +1,9 @@
-// Pipeline: application. The command line of SPEC 1, parsed into plain
-// options that the frame loop reads.
+// Pipeline: run. The command line (README.md, "Command line"), parsed into
+// plain options; run_plan.h turns them and the scene's scene_info into what
+// a run renders. The options are parsed in groups (option_group.h).
 #pragma once
 
-#include "accel/accelerator.h"
+#include "render/backends.h"
 #include "render/frame_settings.h"
 #include "render/image_writer.h"
 
@@ -20,12 +21,13 @@ struct Options {
   int threads = 0; ///< 0 = all cores
   std::optional<int> firstFrame, lastFrame; ///< --frames A:B[:STEP], inclusive, 0-based
   int frameStep = 1;                        ///< --frames A:B:STEP
-  bool skipExisting = false;
-  bool info = false;   ///< --info: print the scene's frames and size as JSON, render nothing
+  bool skipExisting = false; ///< leave frames (and tiles) whose complete image exists
+  bool info = false;   ///< --info: print the run plan as JSON, render nothing
+  std::optional<int> infoTiles; ///< --tiles N: --info also lists N tile names per frame
   bool watch = false;  ///< --watch: live preview, re-rendering on every save (app/watch/)
   std::string serve;   ///< --serve HOST:PORT ("" = no page); parsed into serveHost/Port
   std::string serveHost;
-  int servePort = 0; ///< leave frames (and tiles) whose complete image exists
+  int servePort = 0;
   /// --tile I/N: band I (0-based) of N bands of rows; --crop: a pixel window.
   std::optional<std::pair<int, int>> tile;
   std::optional<PixelWindow> crop;
@@ -59,5 +61,9 @@ struct ParseResult {
 };
 
 ParseResult parseOptions(int argc, const char *const *argv);
+
+/// Every option's longest name ("--seed", ...), in --help's order: what the
+/// run plan's tests check each option against.
+std::vector<std::string> optionNames();
 
 } // namespace lray

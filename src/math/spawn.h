@@ -3,7 +3,7 @@
 // (scales with the magnitude of the hit coordinates; no fixed epsilon).
 #pragma once
 
-#include "geometry/hit.h"
+#include "math/hit.h"
 #include "math/ray.h"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // Tests for src/accel/kdtree/kd_tree.h: the SAH build and both traversals
 // against brute force, including the rays that break naive kd-trees.
-#include "kdtree/kdtree_test_util.h"
+#include "accel/kdtree/kdtree_test_util.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,10 @@
 // Pipeline: application. One frame, end to end.
-#include "app/frame_pipeline.h"
+#include "run/frame_pipeline.h"
 
 #include "bindings/scene_script.h"
 #include "scene/scene_checks.h"
 #include "shading/image_cache.h"
+#include "render/backends.h"
 
 #include <chrono>
 #include <memory>

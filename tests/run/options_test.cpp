@@ -1,6 +1,7 @@
 // Tests for src/app/options: the command line of SPEC 1.
-#include "app/options.h"
+#include "run/options.h"
 #include "app/app.h"
+#include "render/backends.h"
 
 #include <gtest/gtest.h>
 

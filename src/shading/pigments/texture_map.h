@@ -1,11 +1,33 @@
-// Pipeline: shading. Texture maps (SPEC 7): turn a hit record into the
-// point a pigment is looked up at, either 2-D (s, t) or 3-D.
+// Pipeline: shading (a pigment's vocabulary). Texture maps (SPEC 7): a
+// map's parameters, and how they turn a hit record into the point a
+// pigment is looked up at, either 2-D (s, t) or 3-D.
 #pragma once
 
-#include "geometry/hit.h"
-#include "scene/scene.h"
+#include "math/hit.h"
+#include "math/transform.h"
+#include "util/scene_error.h"
+
+#include <cstdint>
 
 namespace lray {
+
+/// How a pigment's lookup point is made from a hit (SPEC 7 texture maps).
+struct TextureMap {
+  enum class Kind : uint8_t {
+    TextureMap2D,   ///< (s,t) = (u,v)
+    UVMap,          ///< s = u*scaleS + translateS, t likewise
+    SphericalMap,   ///< 2-D from the local point by angles (ext)
+    CylindricalMap, ///< 2-D from the local point by angle and height (ext)
+    TextureMap3D,   ///< the entity-local point
+    LinearMap,      ///< the entity-local point with `transform` applied
+  };
+  Kind kind = Kind::TextureMap2D;
+  double scaleS = 1, scaleT = 1, translateS = 0, translateT = 0;
+  Transform transform;
+  SourceLocation loc; ///< where the map was made (none for a default map)
+
+  bool is3D() const { return kind == Kind::TextureMap3D || kind == Kind::LinearMap; }
+};
 
 /// A 2-D pigment lookup coordinate (unitless; a texture repeats every 1).
 struct TexCoord2 {

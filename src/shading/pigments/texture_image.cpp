@@ -1,5 +1,5 @@
 // Pipeline: shading. Wrapped bilinear texture lookup.
-#include "shading/texture_image.h"
+#include "shading/pigments/texture_image.h"
 
 #include <cmath>
 

@@ -1,0 +1,74 @@
+// Pipeline: render. See backends.h. Adding a backend: its folder under
+// src/accel/ and one line in kBackends; adding an integrator: its
+// IntegratorKind and one column in each line's render table.
+#include "render/backends.h"
+
+#include "accel/embree/embree_accelerator.h"
+#include "accel/kdtree/kdtree_accelerator.h"
+#include "render/tile_renderer_impl.h"
+
+#include <cassert>
+#include <stdexcept>
+
+namespace lray {
+
+namespace {
+
+template <class Accel> std::unique_ptr<Accelerator> make(const Scene &scene) {
+  return std::make_unique<Accel>(scene);
+}
+
+template <class Accel> bool built(const Accelerator &accel) {
+  return dynamic_cast<const Accel *>(&accel) != nullptr;
+}
+
+/// The tile loop of `Integ` over `Accel`: the accelerator's type is known
+/// from here down.
+template <class Accel, template <class> class Integ>
+void render(const Accelerator &accel, const Scene &scene, const ImageCache &images,
+            const FrameSettings &settings, Film &film, RayCounts &counts,
+            const ProgressFn &progress) {
+  renderTiles<Integ<Accel>>(static_cast<const Accel &>(accel), scene, images, settings, film,
+                            counts, progress);
+}
+
+template <class Accel>
+constexpr BackendEntry entry(const char *name, BackendKind kind) {
+  return {name, kind, &make<Accel>, &built<Accel>, {&render<Accel, Integrator>}};
+}
+
+constexpr BackendEntry kBackends[] = {
+    entry<EmbreeAccelerator>("embree", BackendKind::Embree),
+    entry<KdTreeAccelerator>("kdtree", BackendKind::KdTree),
+};
+
+const BackendEntry &entry(BackendKind kind) {
+  for (const BackendEntry &b : kBackends)
+    if (b.kind == kind) return b;
+  assert(false && "a BackendKind without an entry in kBackends");
+  return kBackends[0];
+}
+
+} // namespace
+
+std::span<const BackendEntry> backends() { return kBackends; }
+
+std::string backendName(BackendKind kind) { return entry(kind).name; }
+
+std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene) {
+  return entry(kind).make(scene);
+}
+
+std::unique_ptr<Accelerator> makeAccelerator(std::string_view name, const Scene &scene) {
+  for (const BackendEntry &b : kBackends)
+    if (name == b.name) return b.make(scene);
+  throw std::invalid_argument("unknown backend '" + std::string(name) + "'");
+}
+
+const BackendEntry &backendOf(const Accelerator &accel) {
+  for (const BackendEntry &b : kBackends)
+    if (b.built(accel)) return b;
+  throw std::invalid_argument("an accelerator that no backend of render/backends.cpp built");
+}
+
+} // namespace lray

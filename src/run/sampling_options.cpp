@@ -1,0 +1,152 @@
+// Pipeline: run. The sampling options: the backend and threads, the
+// frame's size and samples over scene_info, and how pixels are sampled
+// (README.md, "Quality"); they fill SceneInfo and FrameSettings.
+#include "run/sampling_options.h"
+
+#include "render/backends.h"
+#include "run/option_group.h"
+#include "run/option_text.h"
+#include "scene/scene_checks.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace lray {
+
+namespace {
+
+class SamplingOptions final : public OptionGroup {
+public:
+  void add(CLI::App &app, Options &o) override {
+    const CLI::Validator positive = option_text::finiteNumber(false);
+    const CLI::Validator nonNegative = option_text::finiteNumber(true);
+    CLI::App &g = *app.add_option_group("Rendering and sampling");
+    std::string names; // "embree (default) or kdtree"
+    for (const BackendEntry &b : backends()) {
+      backendsByName_.emplace(b.name, b.kind);
+      const std::string separator = backendNames_.empty() ? "" : " or ";
+      backendNames_ += separator + b.name;
+      names += separator + b.name + (separator.empty() ? " (default)" : "");
+    }
+    // Names are looked up after parsing: CLI11's enum transformer shows its
+    // internal mapping in --help and in its error message.
+    g.add_option("--backend", backend_, "Acceleration backend: " + names)->type_name("NAME");
+    g.add_option("-t,--threads", o.threads, "Render threads (default: all cores)")->check(positive);
+    g.add_option("-w,--width", o.width, "Image width in pixels (overrides scene_info)")
+        ->check(positive);
+    g.add_option("-H,--height", o.height, "Image height in pixels (overrides scene_info)")
+        ->check(positive);
+    g.add_option("-s,--samples", o.samples,
+                 "n: n x n samples per pixel, fixed sampling (overrides scene_info)")
+        ->check(positive);
+    g.add_option("--noise-threshold", o.noiseThreshold,
+                 "Adaptive sampling: passes of samples until each pixel's error estimate is "
+                 "below T (e.g. 0.01; 0: fixed n x n sampling; overrides scene_info)")
+        ->check(nonNegative);
+    g.add_option("--min-samples", o.minSamples,
+                 "Adaptive sampling: samples per pixel of the first pass (default 16; 1: the "
+                 "pixel centre first, more samples only where it differs from a neighbour)")
+        ->check(positive);
+    g.add_option("--max-samples", o.maxSamples,
+                 "Adaptive sampling: most samples a pixel takes (default 1024)")
+        ->check(positive);
+    g.add_option("--time-limit", o.timeLimit,
+                 "Render each frame progressively for at most SECONDS, then write the best "
+                 "image so far")
+        ->check(positive);
+    g.add_option("--seed", o.seed,
+                 "Seed of the random sample stream (default 0): another seed renders "
+                 "independent samples of the same picture")
+        ->check(CLI::Range(0u, 4294967295u));
+    g.add_option("--light-sampling", lightSampling_,
+                 "Area lights: 'all' (every sample shades every cell; default for fixed "
+                 "sampling) or 'spread' (a pixel's samples share the cells; default for adaptive)")
+        ->type_name("MODE");
+    g.add_flag("--no-shadow-skips", o.noShadowSkips,
+               "Trace every shadow ray, even where nothing lies between a tile and a light "
+               "(the same image; for measuring)");
+  }
+
+  std::string finish(Options &o) override {
+    std::string error;
+    if (!backend_.empty())
+      error = option_text::lookUp(backend_, backendsByName_, "--backend", backendNames_, o.backend);
+    if (!error.empty()) return error;
+    if (!lightSampling_.empty()) {
+      const std::map<std::string, LightSampling> modes{{"all", LightSampling::All},
+                                                       {"spread", LightSampling::Spread}};
+      LightSampling mode{};
+      error = option_text::lookUp(lightSampling_, modes, "--light-sampling", "all or spread", mode);
+      if (!error.empty()) return error;
+      o.lightSampling = mode;
+    }
+    if (o.samples && (o.noiseThreshold.value_or(0) > 0 || o.timeLimit > 0))
+      return "--samples sets fixed n x n sampling; with --noise-threshold or "
+             "--time-limit give --min-samples and --max-samples instead";
+    if (o.minSamples && o.maxSamples && *o.minSamples > *o.maxSamples)
+      return "--min-samples (" + std::to_string(*o.minSamples) + ") is above --max-samples (" +
+             std::to_string(*o.maxSamples) + ")";
+    return {};
+  }
+
+private:
+  std::string backend_, lightSampling_;
+  std::map<std::string, BackendKind> backendsByName_;
+  std::string backendNames_; // "embree or kdtree": for an unknown name
+};
+
+} // namespace
+
+std::unique_ptr<OptionGroup> makeSamplingOptions() { return std::make_unique<SamplingOptions>(); }
+
+SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options) {
+  SceneInfo info = fromScript;
+  if (options.width) info.imageWidth = *options.width;
+  if (options.height) info.imageHeight = *options.height;
+  if (options.samples) info.samples = *options.samples;
+  validateSceneInfo(info, static_cast<uint64_t>(options.maxPixels), options.scenePath);
+  if (options.lastFrame && *options.lastFrame >= info.frames)
+    throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
+                                 *options.firstFrame, *options.lastFrame, info.frames,
+                                 info.frames == 1 ? "" : "s", info.frames - 1));
+  return info;
+}
+
+FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
+  FrameSettings s;
+  const double threshold = options.noiseThreshold.value_or(info.noiseThreshold);
+  s.adaptive = threshold > 0 || options.timeLimit > 0;
+  if (!s.adaptive && (options.minSamples || options.maxSamples))
+    throw SceneError("--min-samples and --max-samples apply to adaptive sampling: give "
+                     "--noise-threshold or --time-limit too (or set scene_info.noise_threshold)");
+  AdaptiveSettings &a = s.adaptiveSettings;
+  a.noiseThreshold = threshold;
+  a.timeLimit = options.timeLimit;
+  a.maxSamples = options.maxSamples.value_or(std::max(a.maxSamples, options.minSamples.value_or(0)));
+  a.minSamples = options.minSamples.value_or(std::min(a.minSamples, a.maxSamples));
+  if (a.minSamples > a.maxSamples)
+    throw SceneError(fmt::format("--min-samples ({}) is above --max-samples ({})", a.minSamples,
+                                 a.maxSamples));
+  // The first pass's samples are split into two halves for the estimate;
+  // 1 is the centre-first pass (tile_renderer_impl.h).
+  if (a.minSamples > 1 && a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
+  s.aovs = options.aovs;
+  s.seed = options.seed;
+  s.shadowSkips = !options.noShadowSkips;
+  s.lightSampling =
+      options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);
+  if (s.adaptive) {
+    const long double work = static_cast<long double>(info.imageWidth) * info.imageHeight *
+                             a.maxSamples;
+    if (work > static_cast<long double>(options.maxPixels))
+      throw SceneError(fmt::format(
+          "{}: image_width * image_height * max samples = {} exceeds the limit of {} (lower "
+          "--max-samples or raise --max-pixels)",
+          options.scenePath, static_cast<unsigned long long>(work),
+          static_cast<unsigned long long>(options.maxPixels)));
+  }
+  return s;
+}
+
+} // namespace lray

@@ -1,0 +1,1 @@
+list(APPEND LRAY_TEST_SOURCES tests/run/options_test.cpp tests/run/run_plan_test.cpp)

@@ -40,8 +40,8 @@ void *LuaAllocator::allocSmall(size_t cls) {
   if (static_cast<size_t>(bumpEnd_ - bump_) < bytes) {
     // The tail of the old slab is left unused (at most kMaxSmall bytes).
     // The first slab is small: a short script then touches a few ordinary
-    // pages instead of having the kernel clear a 2 MiB huge page (which
-    // took a fifth of the time of running a tiny script). Later slabs are
+    // pages instead of having the kernel clear a 2 MiB huge page (a large
+    // share of a tiny script's run time: bench/HISTORY.md). Later slabs are
     // 2 MiB-aligned and can be backed by transparent huge pages: one page
     // fault per slab instead of 512 while a big scene grows.
     bool first = slabs_.empty();

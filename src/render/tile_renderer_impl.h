@@ -259,10 +259,10 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
 
   if (!settings.adaptive) {
     // Fixed sampling: n x n samples per pixel at the same Owen-scrambled
-    // Sobol positions as adaptive sampling's (measured 1.1 to 1.46x lower
-    // RMSE than one jittered sample per n x n stratum, at the same cost);
-    // one sample goes through the pixel centre, as POV-Ray's does (1.2 to
-    // 1.4x lower RMSE than one random position).
+    // Sobol positions as adaptive sampling's (measured: lower RMSE than one
+    // jittered sample per n x n stratum, at the same cost); one sample goes
+    // through the pixel centre, as POV-Ray's does (lower RMSE than one
+    // random position; figures in bench/HISTORY.md).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
     auto fixedPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &sampler,

@@ -198,7 +198,8 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
                                   RayCounts &counts) const {
   assert(count <= kMaxTileRays);
   // Per-thread scratch: arrays of this size constructed on every call
-  // cost the gallery scenes 2-3 % of their render time.
+  // cost the gallery scenes a measurable share of their render time
+  // (bench/HISTORY.md, figures from source comments).
   static thread_local TileScratch scratch;
   auto &surface = scratch.surface;
   auto &lightSum = scratch.lightSum; // the direct light, per ray

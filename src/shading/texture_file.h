@@ -1,7 +1,7 @@
 // Pipeline: shading. Decodes the lossless 8-bit formats most scenes use for
 // textures (PNG, and 8/24/32-bit TGA) with stb_image, without loading
-// OpenImageIO: loading it costs about 0.3 s per run, more than rendering a
-// small frame. Anything else (other formats, 16-bit PNG, a TGA stb cannot
+// OpenImageIO: loading it costs more per run than rendering a small frame
+// (bench/README.md, start-up). Anything else (other formats, 16-bit PNG, a TGA stb cannot
 // decode) is left to OpenImageIO, which gives the same texels for what
 // both read; a broken PNG is reported here.
 #pragma once

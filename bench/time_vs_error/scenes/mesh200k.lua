@@ -2,7 +2,7 @@
 -- 200,000-triangle mesh (500 x 200 quads), tilted over a checker floor,
 -- under a point light and a 2 x 2 area light. POV-Ray twin: mesh200k.pov,
 -- whose mesh2 (mesh200k_mesh.inc) the runner writes from the same formula
--- (bench/time_vs_error/run: torus_vertex).
+-- (bench/time_vs_error/run.py: torus_vertex).
 scene_info = SceneInfo() { image_width = 320, image_height = 180 }
 
 local NU, NV = 500, 200       -- quads around the ring and around the tube

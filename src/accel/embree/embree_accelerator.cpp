@@ -369,10 +369,10 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
   // vertices are prefetched after the next packet's trace. Then all the
   // chunk's mesh hits are filled in one batch, four to a SIMD group
   // (triangle_hits.cpp), groups no longer split at packet ends. On
-  // bench_embree's 1M-triangle mesh this runs at 81-82 % of raw Embree's
-  // packets, where filling each packet two traces after its own, in the
-  // same loop, ran at 79 % (bench/HISTORY.md). Analytic hits are written by
-  // their callbacks during the trace.
+  // bench_embree's 1M-triangle mesh this comes closer to raw Embree's
+  // packets than filling each packet two traces after its own, in the same
+  // loop (bench/HISTORY.md, figures from source comments). Analytic hits
+  // are written by their callbacks during the trace.
   constexpr size_t kChunk = 32 * 8;
   TriangleHitQuery queries[kChunk];
   const std::vector<Entity> &entities = scene_.entities;

@@ -171,7 +171,7 @@ private:
   static constexpr double kDoubleInf = std::numeric_limits<double>::infinity();
   // Smaller trees sit in the caches, where the general loop's well
   // predicted branches win: incoherent rays there take the general loop
-  // (bench_kd_rays at 10^2-10^3 triangles: 5-12 % less time).
+  // (less time on bench_kd_rays at 10^2-10^3 triangles: bench/HISTORY.md).
   static constexpr size_t kDescentMinNodes = 4096;
 
   // A ray clipped to the root box, components in arrays (indexed by the
@@ -261,7 +261,8 @@ bool KdTree::traverse(const Ray &ray, double &tMax, PrimTest &&test) const {
 }
 
 // Always inlined: as a call of its own (the kd-tree backend's mesh leaf
-// test grew with its prefilter) it cost small scenes 5 % more instructions.
+// test grew with its prefilter) it cost small scenes more instructions
+// (bench/HISTORY.md, figures from source comments).
 template <bool AnyHit, KdRays Rays, class LeafTest>
 [[gnu::always_inline]] inline bool KdTree::traverseLeaves(const Ray &ray, double &tMax,
                                                         LeafTest &&testLeaf) const {
@@ -269,7 +270,7 @@ template <bool AnyHit, KdRays Rays, class LeafTest>
   if (!clipToBounds(ray, tMax, r)) return false;
   if (Rays == KdRays::Incoherent && nodes_.size() >= kDescentMinNodes && ordinary(r)) {
     // The leaf test as a call of its own: inlined into the descent it
-    // made incoherent rays on 10^5-10^6 triangles 5-16 % slower.
+    // made incoherent rays on 10^5-10^6 triangles slower (bench/HISTORY.md).
     auto leafCall = [&testLeaf](uint32_t offset, uint32_t count, double &tBest)
                         __attribute__((noinline)) { return testLeaf(offset, count, tBest); };
     return descend<AnyHit>(r, tMax, leafCall);
@@ -292,9 +293,9 @@ template <bool AnyHit, class LeafTest>
   // a few more where p lies within the margin of a plane. The far children
   // to visit later are pushed by the general loop's t rule, without a
   // branch; empty leaves are popped. On bench_kd_rays (bumpy sphere of
-  // 10^4-10^6 triangles) it took secondary rays 13-18 % less time than the
-  // general loop, shadow rays to one light (neighbours in 8x8 blocks) 10 %
-  // less at 10^6 but up to 5 % more at 10^4 (bench/HISTORY.md).
+  // 10^4-10^6 triangles) it took secondary rays less time than the general
+  // loop, shadow rays to one light (neighbours in 8x8 blocks) less at 10^6
+  // but a little more at 10^4 (bench/HISTORY.md).
   Todo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0;
@@ -305,7 +306,8 @@ template <bool AnyHit, class LeafTest>
     // farOnly at a node on axis a: split < lo[a] (ray moving up the axis)
     // or split > hi[a] (moving down); the other bound is infinite. (Double
     // thresholds: float ones, with a margin of two float roundings, put
-    // 38 % more leaves in the walks of a scene 3e5 from the origin.)
+    // many more leaves in the walks of a scene 3e5 from the origin:
+    // bench/HISTORY.md.)
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       const double step = t0 * r.dir[a];
@@ -335,8 +337,8 @@ template <bool AnyHit, class LeafTest>
       top += pushFar;
       // A branch (rarely taken, so well predicted) rather than a select:
       // the next node's load then starts before this step's arithmetic is
-      // done. (Selects measured 6-36 % slower; passing over empty near
-      // children here instead of popping them, 3-14 % slower at 10^5-10^6:
+      // done. (Selects measured slower; so did passing over empty near
+      // children here instead of popping them, at 10^5-10^6:
       // bench/HISTORY.md.) Going far, t0 stays:
       // the plane lies before it.
       if (farOnly) {

@@ -66,10 +66,11 @@ private:
 constexpr uint32_t kDirectTestLimit = 2;
 
 // Packets pay in large trees, whose steps miss the caches: on the bumpy
-// sphere at 1280x960 (one thread) they took frames of 10^4 triangles 12 %
-// less time and of 10^6 18 % less, but 10^2 (a tree of 15 nodes) 2-4 %
-// more. Scenes whose trees all have fewer nodes trace single rays, and
-// in a packet's scene such a mesh takes its lanes one by one.
+// sphere at 1280x960 (one thread) they shortened the frames of 10^4 and
+// 10^6 triangles but lengthened those of 10^2, a tree of 15 nodes
+// (bench/HISTORY.md, figures from source comments). Scenes whose trees all
+// have fewer nodes trace single rays, and in a packet's scene such a mesh
+// takes its lanes one by one.
 constexpr size_t kPacketMinNodes = 4096;
 
 KdTree buildMeshTree(const MeshData &mesh) {
@@ -85,12 +86,12 @@ KdTree buildMeshTree(const MeshData &mesh) {
   // earlier still as the tree outgrows the caches (a step down costs more).
   // With the float prefilter (eight leaf triangles per AVX2 test)
   // bench_kd_rays on the bumpy sphere was fastest at traversal cost 120
-  // on small meshes (100 triangles: 2-5 % fewer ns per ray than 60; 240
-  // was 20 % slower there) and 240 on large ones (1M triangles: 10-14 %
-  // fewer than 120, 2.3x fewer nodes, 20 % less memory; the depth limit
-  // and empty-space factor did nothing). With the start-side descent the
-  // switch moved from 2^18 down to 2^15 triangles: at 10^5, 240 gave
-  // incoherent rays 5-7 % fewer ns than 120, and 10^4 was the same.
+  // on small meshes (100 triangles; both 60 and 240 were slower) and 240 on
+  // large ones (1M triangles: also fewer nodes and less memory; the depth
+  // limit and empty-space factor did nothing). With the start-side descent
+  // the switch moved from 2^18 down to 2^15 triangles: 240 was faster for
+  // incoherent rays at 10^5 and no slower at 10^4 (bench/HISTORY.md,
+  // figures from source comments).
   KdBuildOptions options;
   options.leafAlignment = kPacketLanes;
   options.cost.traversalCost = n < (size_t{1} << 15) ? 120 : 240;
@@ -172,8 +173,8 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
 
 // Inlined, with the ray-axis lambda, into both levels' callers: as calls of
 // their own they cost gallery scenes (rays into small meshes, a floor in
-// every scene) 10-20 % more instructions than the code before the
-// prefilter. The leaf test is a call of its own (see below).
+// every scene) more instructions than the code before the prefilter
+// (bench/HISTORY.md). The leaf test is a call of its own (see below).
 template <bool AnyHit, KdRays Rays>
 [[gnu::always_inline]] inline bool KdTreeAccelerator::intersectMesh(const Instance &inst,
                                                                     const Ray &ray, double &tBest,

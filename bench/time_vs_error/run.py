@@ -10,8 +10,8 @@ anti-aliasing ladder. Every image's RMSE and PSNR against its own
 renderer's reference goes to results.csv, results.md and time_vs_error.png
 in --out. See README.md in this folder.
 
-    bench/time_vs_error/run --out /tmp/tve            # the whole ladder, 320x180
-    bench/time_vs_error/run --quick -w 96 -H 54       # a short test run
+    bench/time_vs_error/run.py --out /tmp/tve            # the whole ladder, 320x180
+    bench/time_vs_error/run.py --quick -w 96 -H 54       # a short test run
 """
 
 import argparse
@@ -137,7 +137,7 @@ def write_torus_mesh2(path):
     normals = (sums / np.linalg.norm(sums, axis=1)[:, None]).astype(np.float32)
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
-        f.write("// Written by bench/time_vs_error/run from mesh200k.lua's formula.\n")
+        f.write("// Written by bench/time_vs_error/run.py from mesh200k.lua's formula.\n")
         f.write("#declare Torus = mesh2 {\n  vertex_vectors { %d,\n" % len(pos))
         f.write(",\n".join("<%.9g,%.9g,%.9g>" % tuple(v) for v in pos.tolist()))
         f.write("\n  }\n  normal_vectors { %d,\n" % len(normals))

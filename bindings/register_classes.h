@@ -1,5 +1,5 @@
 // Pipeline: script -> scene description. Registration of every LRay class
-// and function (SPEC sections 3 to 7) into a lua_State, one file per family.
+// and function (lua/README.md) into a lua_State, one file per family.
 #pragma once
 
 #include "bindings/lua_binding.h"

@@ -1,4 +1,4 @@
-// Pipeline: script -> scene description. The shapes (SPEC 5), Mesh with its
+// Pipeline: script -> scene description. The shapes (lua/README.md, "Entities"), Mesh with its
 // Lua-table arrays, and the native mesh_from_obj.
 #include "bindings/lua_allocator.h"
 #include "bindings/register_classes.h"

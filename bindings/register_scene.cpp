@@ -1,5 +1,5 @@
 // Pipeline: script -> scene description. SceneInfo, Scene, Perspective and
-// Light (SPEC 4 and 6).
+// Light (lua/README.md, "Scene and camera", "Lights").
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 #include "bindings/validators.h"

@@ -1,5 +1,5 @@
 // Pipeline: script -> scene description. Texture, Finish, the six pigments
-// and the texture maps (SPEC 7).
+// and the texture maps (lua/README.md, "Textures, finishes and pigments").
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 #include "bindings/validators.h"

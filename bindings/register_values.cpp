@@ -1,4 +1,4 @@
-// Pipeline: script -> scene description. Vector, Color and Transform (SPEC 3):
+// Pipeline: script -> scene description. Vector, Color and Transform (lua/README.md, "Values"):
 // value types whose arithmetic runs in C++.
 #include "bindings/register_classes.h"
 

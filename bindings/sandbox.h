@@ -1,5 +1,5 @@
 // Pipeline: script -> scene description. The libraries a scene script gets
-// (SPEC 2, sandbox ext): base, math, string, table, utf8, read-only io.open
+// (lua/README.md, "The sandbox"): base, math, string, table, utf8, read-only io.open
 // and io.lines, os.clock/time/date; text-only load. --unsafe opens all.
 #pragma once
 

@@ -11,7 +11,7 @@ namespace lray::lua {
 /// - textures and pigments are deduplicated by object identity (a Texture
 ///   shared by many entities appears once); the pigment table is built
 ///   bottom-up, so a checker's sub-pigments have smaller indices;
-/// - unassigned references get their SPEC defaults (Texture(), Finish(),
+/// - unassigned references get their documented defaults (Texture(), Finish(),
 ///   white ColorPigment, TextureMap2D/3D, Perspective());
 /// - image paths are already absolute (resolved at construction) and are
 ///   deduplicated into Scene::images;

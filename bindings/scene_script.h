@@ -34,7 +34,7 @@ struct ScriptOptions {
   std::shared_ptr<std::vector<std::string>> readLog;
 };
 
-/// A loaded scene script (SPEC 2). Not thread-safe; used by one thread.
+/// A loaded scene script (lua/README.md, "The scene file"). Not thread-safe; used by one thread.
 class SceneScript {
 public:
   /// Loads and runs the scene file; relative paths inside the script (images,

@@ -1,4 +1,4 @@
--- LRay prelude: run before every scene script (SPEC 3 and 5). Embedded into
+-- LRay prelude: run before every scene script (lua/README.md, "Prelude"). Embedded into
 -- the binary at build time by bindings/sources.cmake.
 
 -- Unit vectors and the origin.

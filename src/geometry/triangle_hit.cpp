@@ -176,7 +176,7 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
     hit.u = b0 * t0.u + b1 * t1.u + b2 * t2.u;
     hit.v = b0 * t0.v + b1 * t1.v + b2 * t2.v;
   } else {
-    // Default mapping (SPEC 5): corners (0,0), (1,0), (0,1).
+    // Default mapping (lua/README.md, "Entities"): corners (0,0), (1,0), (0,1).
     hit.u = b1;
     hit.v = b2;
   }

@@ -1,5 +1,5 @@
 // Pipeline: render. Turns image-plane positions into world-space camera rays
-// for the Perspective camera of SPEC 4.
+// for the Perspective camera of lua/README.md, "Scene and camera".
 #pragma once
 
 #include "math/constants.h"

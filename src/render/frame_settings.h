@@ -18,7 +18,7 @@ constexpr size_t kIntegratorKinds = 1;
 
 /// How a pixel sample lights a point under an area light of K cells.
 enum class LightSampling {
-  All,    ///< every sample shades every cell (SPEC 6)
+  All,    ///< every sample shades every cell (lua/README.md, "Lights")
   Spread, ///< the samples of a pixel share the cells out (Integrator's lightShares)
 };
 

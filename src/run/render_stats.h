@@ -23,7 +23,7 @@ struct FrameStats {
   double writeSeconds = 0;
   AcceleratorStats accel;
   size_t entities = 0, lights = 0;
-  std::vector<std::string> warnings; ///< e.g. the SPEC 4 camera-aspect warning
+  std::vector<std::string> warnings; ///< e.g. the camera-aspect warning
   RayCounts rays;
   SamplingReport sampling;
 };

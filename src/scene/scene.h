@@ -19,7 +19,7 @@
 
 namespace lray {
 
-/// SceneInfo: image size and animation (SPEC 4).
+/// SceneInfo: image size and animation (lua/README.md, "Scene and camera").
 struct SceneInfo {
   int imageWidth = 800;
   int imageHeight = 600;
@@ -29,14 +29,14 @@ struct SceneInfo {
   double startClock = 0;
   double endClock = 1;
 
-  /// Clock value for 0-based frame i (SPEC 2).
+  /// Clock value for 0-based frame i (lua/README.md, "The scene file").
   double clockForFrame(int i) const {
     if (frames <= 1) return startClock;
     return startClock + (endClock - startClock) * i / (frames - 1);
   }
 };
 
-/// Finish (SPEC 7); defaults as in the spec.
+/// Finish (lua/README.md, "Textures, finishes and pigments"), with its defaults.
 struct Finish {
   Color ambient{0.02, 0.02, 0.02};
   double diffuse = 0.6;
@@ -48,10 +48,10 @@ struct Finish {
   double absorption = 0.5;
 };
 
-/// A pigment (SPEC 7): one of shading/pigments/ with its parameters, the
-/// texture map that gives it its lookup point, and where it was defined.
-/// Checkers refer to their two sub-pigments by index into Scene::pigments
-/// (always smaller indices: the table is built bottom-up).
+/// A pigment (lua/README.md, "Textures, finishes and pigments"): one of shading/pigments/ with its
+/// parameters, the texture map that gives it its lookup point, and where it was defined. Checkers
+/// refer to their two sub-pigments by index into Scene::pigments (always smaller indices: the table
+/// is built bottom-up).
 struct Pigment {
   PigmentPattern pattern;
   TextureMap map;
@@ -72,7 +72,7 @@ struct Texture {
   SourceLocation loc; ///< none for the default texture
 };
 
-/// An entity placed in the world (SPEC 5): a shape of geometry/shapes/ with
+/// An entity placed in the world (lua/README.md, "Entities"): a shape of geometry/shapes/ with
 /// its parameters. For meshes, `mesh` holds the (possibly shared) geometry
 /// and `worldFromObject` the mesh transform.
 struct Entity {
@@ -87,8 +87,8 @@ struct Entity {
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
 };
 
-/// Perspective camera (SPEC 4): horizontal fov in degrees, aspect = w/h of
-/// the image plane; looks down +z of its own frame, +y up.
+/// Perspective camera (lua/README.md, "Scene and camera"): horizontal fov in degrees, aspect = w/h
+/// of the image plane; looks down +z of its own frame, +y up.
 struct Camera {
   double fov = 45;
   double aspect = 1.33;

@@ -37,7 +37,7 @@ void checkFileSize(const std::string &path, const std::string &name, uint64_t ma
 /// width * height * samples^2 exceeds maxPixels.
 void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::string &where);
 
-/// The SPEC 4 warning when the camera aspect differs from the image's by
+/// The warning when the camera aspect differs from the image's by
 /// more than 1 %, else nothing.
 std::optional<std::string> aspectWarning(const SceneInfo &info, const Camera &camera);
 

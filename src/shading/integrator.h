@@ -1,4 +1,5 @@
-// Pipeline: shading. The Whitted-style integrator of SPEC 7: ambient +
+// Pipeline: shading. The Whitted-style integrator of lua/README.md, "The shading
+// equation": ambient +
 // lights (with shadow rays) + mirror reflection + refraction with
 // absorption. A template over the concrete accelerator (a `final` class with
 // the member functions of accel/accelerator.h), so every query is a direct
@@ -24,7 +25,7 @@
 
 namespace lray {
 
-/// Conventions beyond SPEC 7, all in world space:
+/// Conventions beyond lua/README.md's shading equation, all in world space:
 /// - N is the shading normal flipped to the side the ray arrives from, which
 ///   the geometric normal decides (dot(ray.d, ng) < 0: arriving from outside,
 ///   entering); V = -normalize(ray.d).

@@ -1,4 +1,4 @@
-// Pipeline: shading. The Phong finish of SPEC 7: a texture's Finish
+// Pipeline: shading. The Phong finish of the shading equation: a texture's Finish
 // prepared once per frame (Material), and what one unblocked light sample
 // adds at a surface point: diffuse N.L plus the specular highlight
 // specular * max(0, R.V)^exponent, R the light direction mirrored about N.

@@ -1,6 +1,6 @@
-// Geometry through both backends (SPEC 8): the same scene gives the same
-// closest entity, t and hit record from Embree and from the kd-tree, and
-// both agree with a brute-force double-precision reference.
+// Geometry through both backends (README.md, "Accuracy, and the two backends"): the same scene
+// gives the same closest entity, t and hit record from Embree and from the kd-tree, and both agree
+// with a brute-force double-precision reference.
 #include "render/backends.h"
 #include "accel/kdtree/kdtree_accelerator.h"
 #include "shape_params.h"

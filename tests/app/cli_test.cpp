@@ -1,4 +1,4 @@
-// End-to-end tests of the lray binary (SPEC 1): exit codes, messages, file
+// End-to-end tests of the lray binary (README.md, "The `lray` command"): exit codes, messages, file
 // names, frame ranges, --stats, and byte-identical output across thread counts.
 #include "cli_fixture.h"
 

@@ -1,4 +1,4 @@
-// Every class and attribute of SPEC 4-7: default value, set/get and bulk set
+// Every class and attribute of lua/README.md: default value, set/get and bulk set
 // (parameterised over a table), reference attributes, methods.
 #include "lua_fixture.h"
 
@@ -213,7 +213,8 @@ TEST_F(ObjectModelTest, BulkSyntaxOnConstructorResultsAndCopies) {
 }
 
 TEST_F(ObjectModelTest, ObjectsAreSharedReferences) {
-  // The same Light as in SPEC 2's two forms, and a texture shared by two spheres.
+  // The same Light as in lua/README.md's two forms ("Objects and attributes"), and a texture shared
+  // by two spheres.
   ASSERT_EQ(runLua("t = Texture(); a = Sphere(); b = Sphere(); a.texture = t; b.texture = t\n"
                    "t.finish.reflection = 0.5"),
             "");

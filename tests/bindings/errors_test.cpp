@@ -1,5 +1,5 @@
 // Every user error the bindings detect: the message names file:line, the
-// class, the attribute, what was expected and what was given (SPEC 2).
+// class, the attribute, what was expected and what was given (lua/README.md, "The scene file").
 #include "lua_fixture.h"
 
 #include <chrono>

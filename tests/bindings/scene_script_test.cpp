@@ -1,5 +1,5 @@
-// SceneScript: the render loop's entry point (SPEC 2, 4), and every scene
-// in scenes/ loading and building its first and last frames.
+// SceneScript: the render loop's entry point (lua/README.md, "The scene file", "Scene and camera"),
+// and every scene in scenes/ loading and building its first and last frames.
 #include "bindings/scene_script.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Vector, Color, Transform and the prelude's values (SPEC 3).
+// Vector, Color, Transform and the prelude's values (lua/README.md, "Values").
 #include "lua_fixture.h"
 
 namespace lray::lua {

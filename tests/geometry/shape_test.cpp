@@ -1,5 +1,5 @@
 // Tests for src/geometry/shape: known hits, misses, normals and uvs of the
-// analytic shapes (SPEC 5), rays from inside, caps, apex, edges, bounds.
+// analytic shapes (lua/README.md, "Entities"), rays from inside, caps, apex, edges, bounds.
 #include "geometry/shape.h"
 #include "shape_params.h"
 

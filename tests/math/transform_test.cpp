@@ -1,4 +1,4 @@
-// Tests for src/math/transform: conventions of SPEC 3 and inversion.
+// Tests for src/math/transform: conventions of lua/README.md, "Values" and inversion.
 #include "math/transform.h"
 
 #include <gtest/gtest.h>

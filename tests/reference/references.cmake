@@ -15,7 +15,7 @@
 #   every gallery scene is identical at full size. A scene may still pass
 #   its own kd-tree failpercent as a 7th argument (a silhouette tie between
 #   the float and double triangle tests), with the reason beside it in
-#   scenes.cmake; SPEC 8 allows at most 0.01 %.
+#   scenes.cmake; README.md ("Accuracy, and the two backends") allows at most 0.01 %.
 add_executable(lray_refcheck tests/reference/reference_check.cpp)
 target_link_libraries(lray_refcheck PRIVATE lray_core CLI11::CLI11 PkgConfig::OIIO lray_warnings)
 

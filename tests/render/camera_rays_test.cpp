@@ -1,4 +1,4 @@
-// Tests for src/render/camera_rays: SPEC 4 camera conventions.
+// Tests for src/render/camera_rays: lua/README.md, "Scene and camera" camera conventions.
 #include "render/camera_rays.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The native OBJ reader behind mesh_from_obj (SPEC 5).
+// The native OBJ reader behind mesh_from_obj (lua/README.md, "Entities").
 #include "scene/obj_loader.h"
 #include "util/scene_error.h"
 

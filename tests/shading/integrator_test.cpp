@@ -1,4 +1,4 @@
-// Tests for src/shading/integrator: the shading equation of SPEC 7 in
+// Tests for src/shading/integrator: the shading equation (lua/README.md, "The shading equation") in
 // analytic configurations (lit sphere, shadow, mirror, absorbing slab, total
 // internal reflection, recursion limits, area-light soft shadows), traced
 // through a brute-force test accelerator.

@@ -46,7 +46,7 @@ TEST(TextureMap, SphericalMapMatchesSphereUv) {
   EXPECT_DOUBLE_EQ(c.t, 1.0);
   TexCoord2 d = mapPoint2D(m, hitAt({0, -0.5, 0}));
   EXPECT_DOUBLE_EQ(d.t, 0.0);
-  // On the unit sphere it is exactly the sphere's own uv of SPEC 5.
+  // On the unit sphere it is exactly the sphere's own uv (lua/README.md, "Entities").
   Vec3 p = normalize(Vec3(0.3, -0.4, -0.5));
   TexCoord2 e = mapPoint2D(m, hitAt(p));
   EXPECT_NEAR(e.t, (p.y + 1) / 2, 1e-15);

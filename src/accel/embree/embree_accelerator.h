@@ -20,10 +20,10 @@ struct RTCSceneTy;
 
 namespace lray {
 
-/// The Embree backend (SPEC 8). Rays are traced in single precision by
-/// Embree; analytic shapes are still intersected in double precision from
-/// the caller's own ray (the callbacks read it from the per-query context),
-/// and every Hit is filled by the shared shape code.
+/// The Embree backend (README.md, "Accuracy, and the two backends"). Rays are traced in single
+/// precision by Embree; analytic shapes are still intersected in double precision from the caller's
+/// own ray (the callbacks read it from the per-query context), and every Hit is filled by the
+/// shared shape code.
 class EmbreeAccelerator final : public Accelerator {
 public:
   /// Builds the Embree scene over `scene`, which must outlive this object.

@@ -1,4 +1,4 @@
-// Pipeline: geometry. The cone in object space (SPEC 5 Cone): base radius 1
+// Pipeline: geometry. The cone in object space (lua/README.md, "Entities"): base radius 1
 // at y = 0, apex at (0, 1, 0), base capped unless `open`.
 #include "geometry/shapes/cone.h"
 

@@ -1,4 +1,4 @@
-// Pipeline: geometry. Cone (SPEC 5): base radius 1 at y = 0, apex at
+// Pipeline: geometry. Cone (lua/README.md, "Entities"): base radius 1 at y = 0, apex at
 // (0, 1, 0) in object space, base capped unless `open`. Parts: 0 side
 // (u = turn fraction from +x towards +z, v = y), 1 base cap (u = (x + 1) / 2,
 // v = (z + 1) / 2).

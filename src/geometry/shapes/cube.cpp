@@ -1,9 +1,9 @@
-// Pipeline: geometry. The unit cube in object space (SPEC 5 Cube): side 1,
+// Pipeline: geometry. The unit cube in object space (lua/README.md, "Entities"): side 1,
 // centred at the origin, intersected as three slabs (Kay and Kajiya 1986).
 //
 // Face uv orientation: each face is seen from outside, upright, with u to
-// the right and v up in the left-handed frame of SPEC 2 (+y up); the top and
-// bottom faces have +z as "up". So, with (x, y, z) in [-0.5, 0.5]:
+// the right and v up in the left-handed frame of lua/README.md, "The scene file" (+y up); the top
+// and bottom faces have +z as "up". So, with (x, y, z) in [-0.5, 0.5]:
 //   -z: u = x + 0.5, v = y + 0.5     +z: u = 0.5 - x, v = y + 0.5
 //   +x: u = z + 0.5, v = y + 0.5     -x: u = 0.5 - z, v = y + 0.5
 //   +y: u = x + 0.5, v = z + 0.5     -y: u = 0.5 - x, v = z + 0.5

@@ -1,4 +1,4 @@
-// Pipeline: geometry. Cube (SPEC 5): side 1, centred at the origin of its
+// Pipeline: geometry. Cube (lua/README.md, "Entities"): side 1, centred at the origin of its
 // object space. Parts: 2 * axis + (1 if the face is on the + side), axis
 // 0 = x; the faces' uv orientation is in cube.cpp.
 #pragma once

@@ -1,4 +1,4 @@
-// Pipeline: geometry. The capped cylinder in object space (SPEC 5
+// Pipeline: geometry. The capped cylinder in object space (lua/README.md, "Entities",
 // Cylinder): radius 1 around +y from y = 0 to y = 1; `open` drops the caps.
 #include "geometry/shapes/cylinder.h"
 

@@ -1,4 +1,4 @@
-// Pipeline: geometry. Cylinder (SPEC 5): radius 1 around +y from y = 0 to
+// Pipeline: geometry. Cylinder (lua/README.md, "Entities"): radius 1 around +y from y = 0 to
 // y = 1 in object space, capped unless `open`. Parts: 0 side (u = turn
 // fraction from +x towards +z, v = y), 1 bottom cap (y = 0), 2 top cap
 // (y = 1); caps have u = (x + 1) / 2, v = (z + 1) / 2.

@@ -1,4 +1,4 @@
-// Pipeline: geometry. Mesh (SPEC 5): a triangle mesh. Its geometry is
+// Pipeline: geometry. Mesh (lua/README.md, "Entities"): a triangle mesh. Its geometry is
 // Entity::mesh (shared between copies) and its triangles are intersected by
 // each backend's own triangle test, then filled by the shared triangle code
 // (geometry/shape.h fillTriangleHit); this tag only puts it in the shape list.

@@ -1,4 +1,4 @@
-// Pipeline: geometry. The unit sphere in object space (SPEC 5 Sphere).
+// Pipeline: geometry. The unit sphere in object space (lua/README.md, "Entities").
 #include "geometry/shapes/sphere.h"
 
 namespace lray {

@@ -1,4 +1,4 @@
-// Pipeline: geometry. Sphere (SPEC 5): the unit sphere at the origin of its
+// Pipeline: geometry. Sphere (lua/README.md, "Entities"): the unit sphere at the origin of its
 // object space. One part (0). uv: u = (atan2(z, x) + pi) / (2 pi),
 // v = (y + 1) / 2.
 #pragma once

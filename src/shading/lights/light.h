@@ -1,4 +1,4 @@
-// Pipeline: shading. Light (SPEC 6): a 1 x 1 square in its local xz-plane,
+// Pipeline: shading. Light (lua/README.md, "Lights"): a 1 x 1 square in its local xz-plane,
 // centred at its origin, split into rows x cols cells (cols along local x,
 // rows along local z) and placed by worldFromLight. Each shading point
 // takes one sample per cell, at the cell centre or (area) jittered inside

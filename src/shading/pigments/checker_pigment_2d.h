@@ -1,6 +1,6 @@
-// Pipeline: shading. CheckerPigment2D (SPEC 7): two sub-pigments in a
-// checkerboard of the map's (s, t): pigment1 where (frac(s) > 0.5) ==
-// (frac(t) > 0.5), frac(x) = x - floor(x).
+// Pipeline: shading. CheckerPigment2D (lua/README.md, "Textures, finishes and pigments"): two
+// sub-pigments in a checkerboard of the map's (s, t): pigment1 where (frac(s) > 0.5) == (frac(t) >
+// 0.5), frac(x) = x - floor(x).
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

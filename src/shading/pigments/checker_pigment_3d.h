@@ -1,6 +1,6 @@
-// Pipeline: shading. CheckerPigment3D (SPEC 7): two sub-pigments in unit
-// cubes of the map's 3-D point: pigment1 where floor(x) + floor(y) +
-// floor(z) is even.
+// Pipeline: shading. CheckerPigment3D (lua/README.md, "Textures, finishes and pigments"): two
+// sub-pigments in unit cubes of the map's 3-D point: pigment1 where floor(x) + floor(y) + floor(z)
+// is even.
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

@@ -1,4 +1,5 @@
-// Pipeline: shading. ColorPigment (SPEC 7): one colour everywhere; no map.
+// Pipeline: shading. ColorPigment (lua/README.md, "Textures, finishes and pigments"): one colour
+// everywhere; no map.
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

@@ -1,6 +1,6 @@
-// Pipeline: shading. ImagePigment2D (SPEC 7): an image looked up at the
-// map's (s, t), repeating every 1 (shading/pigments/texture_image.h); black when the
-// image was not loaded.
+// Pipeline: shading. ImagePigment2D (lua/README.md, "Textures, finishes and pigments"): an image
+// looked up at the map's (s, t), repeating every 1 (shading/pigments/texture_image.h); black when
+// the image was not loaded.
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

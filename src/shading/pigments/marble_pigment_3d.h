@@ -1,6 +1,6 @@
-// Pipeline: shading. MarblePigment3D (SPEC 7): bands across `frequency`,
-// a = |sin(dot(p, frequency) + power * turb(p, size))|, colour
-// a * color1 + (1 - a) * color2 (p the map's 3-D point).
+// Pipeline: shading. MarblePigment3D (lua/README.md, "Textures, finishes and pigments"): bands
+// across `frequency`, a = |sin(dot(p, frequency) + power * turb(p, size))|, colour a * color1 + (1
+// - a) * color2 (p the map's 3-D point).
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

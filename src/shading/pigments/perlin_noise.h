@@ -14,8 +14,8 @@ namespace lray {
 double perlinNoise(const Vec3 &p);
 
 /// turb(p, size) = sum over octaves k = 0, 1, ... while 2^-k >= size of
-/// |noise(p * 2^k)| / 2^k (SPEC 7). At most 32 octaves, so a size <= 0
-/// cannot loop forever.
+/// |noise(p * 2^k)| / 2^k (lua/README.md, "Textures, finishes and pigments"). At most 32 octaves,
+/// so a size <= 0 cannot loop forever.
 double turbulence(const Vec3 &p, double size);
 
 } // namespace lray

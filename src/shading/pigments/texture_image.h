@@ -1,5 +1,5 @@
 // Pipeline: shading. A decoded texture image (float RGB) and its wrapped
-// bilinear lookup, as ImagePigment2D uses it (SPEC 7).
+// bilinear lookup, as ImagePigment2D uses it (lua/README.md, "Textures, finishes and pigments").
 #pragma once
 
 #include "math/color.h"

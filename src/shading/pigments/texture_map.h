@@ -1,4 +1,4 @@
-// Pipeline: shading (a pigment's vocabulary). Texture maps (SPEC 7): a
+// Pipeline: shading (a pigment's vocabulary). Texture maps (lua/README.md): a
 // map's parameters, and how they turn a hit record into the point a
 // pigment is looked up at, either 2-D (s, t) or 3-D.
 #pragma once
@@ -11,7 +11,7 @@
 
 namespace lray {
 
-/// How a pigment's lookup point is made from a hit (SPEC 7 texture maps).
+/// How a pigment's lookup point is made from a hit (lua/README.md, "Texture maps").
 struct TextureMap {
   enum class Kind : uint8_t {
     TextureMap2D,   ///< (s,t) = (u,v)
@@ -38,9 +38,9 @@ struct TexCoord2 {
 /// - TextureMap2D: (u, v) of the hit.
 /// - UVMap: s = u * scaleS + translateS, t = v * scaleT + translateT.
 /// - SphericalMap (ext), from the entity-local point p = Hit::pObject, the
-///   unit sphere's own uv (SPEC 5) extended to any point by its direction:
+///   unit sphere's own uv (lua/README.md, "Entities") extended to any point by its direction:
 ///   s = (atan2(p.z, p.x) + pi) / (2 pi), t = (p.y / |p| + 1) / 2 (t = 0.5 at p = 0).
-/// - CylindricalMap (ext), the cylinder's side uv (SPEC 5) about the local
+/// - CylindricalMap (ext), the cylinder's side uv (lua/README.md, "Entities") about the local
 ///   y axis: s = a / (2 pi) with a = atan2(p.z, p.x) taken in [0, 2 pi)
 ///   (from +x towards +z, as geometry's turnFraction), t = p.y.
 /// A 3-D map given to a 2-D pigment uses (x, y) of its 3-D point.

@@ -1,6 +1,6 @@
-// Pipeline: shading. WoodPigment3D (SPEC 7): rings about z,
-// t = sqrt(fx * p.x^2 + fy * p.y^2) + power * turb(p, size), colour as
-// marble's blend (a negative radicand counts as 0).
+// Pipeline: shading. WoodPigment3D (lua/README.md, "Textures, finishes and pigments"): rings about
+// z, t = sqrt(fx * p.x^2 + fy * p.y^2) + power * turb(p, size), colour as marble's blend (a
+// negative radicand counts as 0).
 #pragma once
 
 #include "shading/pigments/pigment_context.h"

@@ -111,7 +111,9 @@ def make_plan(info: dict[str, Any], step: int, per_task: int, tiles: int) -> Pla
     # The task script computes a task's frames as first + k * step: lray must
     # have listed exactly that selection.
     if frames != list(range(frames[0], frames[0] + step * len(frames), step)):
-        raise FarmError(f"lray --info listed frames {frames[:5]}... , not every {step}. from {frames[0]}")
+        shown = ", ".join(map(str, frames[:6])) + (", ..." if len(frames) > 6 else "")
+        raise FarmError(f"lray --info listed frames {shown}, not every {step}th from {frames[0]}: "
+                        "is this lray older or newer than scripts/farm?")
     return Plan(total, frames, step, per_task, tiles, files, tile_files)
 
 

@@ -11,6 +11,8 @@
 #   (c) a task cancelled mid-render (scancel): the set is incomplete, no final
 #       name holds anything but a complete frame, and running scripts/farm again
 #       submits only the missing task and completes the set byte-identically.
+#   (d) an OUTDIR whose name has a newline, $(...), quotes and a %: the frames
+#       and logs land there, and no part of the name runs as a command.
 # Prints the ring animation's wall time through Slurm against a local render.
 # The daemons (and any job left) are stopped on exit, whatever happens. Every
 # wait is bounded. If the daemons cannot start, the test fails saying so.
@@ -324,6 +326,23 @@ cat "$tmp/c2.log"
 grep -q "^farm: array job [0-9]*: tasks $task," "$tmp/c2.log" || fail "(c) the resubmission did not submit task $task alone"
 same_files "$tmp/local-slow" "$out" 3 strays-ok
 step "(c) the resumed set is complete and byte-identical"
+
+# --- (d) a hostile output folder ----------------------------------------------------------
+# A newline, $(...), quotes and a % in OUTDIR reach the job scripts quoted and
+# Slurm's --output as %%: the frames and the logs land in that folder, and no
+# part of its name runs as a command.
+step "(d) ring frames 0:1 into a folder named with a newline, \$(...), quotes and %"
+hostile="$tmp/farm-odd
+\$(touch $tmp/pwned) \"q\" 'q' 50%"
+farm_run "$tmp/d.log" "${ring[@]}" "$hostile" --frames 0:1 -- "${small[@]}" ||
+  { cat "$tmp/d.log" >&2; fail "(d) scripts/farm did not complete into a hostile OUTDIR"; }
+cat "$tmp/d.log"
+[[ ! -e "$tmp/pwned" ]] || fail "(d) a part of the folder's name ran as a command"
+for f in ring0000.png ring0001.png; do
+  cmp -s "$tmp/local-ring/$f" "$hostile/$f" || fail "(d) $f is missing or differs in the hostile OUTDIR"
+done
+compgen -G "$hostile/.farm/lray-ring-*_1.log" >/dev/null || fail "(d) no task log in the hostile OUTDIR's .farm"
+step "(d) frames and logs in the hostile folder, nothing ran"
 
 # --- timing ------------------------------------------------------------------------------
 slots=$cpus

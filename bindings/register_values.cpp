@@ -1,6 +1,7 @@
 // Pipeline: script -> scene description. Vector, Color and Transform (lua/README.md, "Values"):
 // value types whose arithmetic runs in C++.
 #include "bindings/register_classes.h"
+#include "util/printable_text.h"
 
 #include <cmath>
 
@@ -10,8 +11,8 @@ namespace {
 
 // Factories and products are checked where they are made, so a singular
 // matrix is reported at the script line that creates it.
-Affine checked(const Affine &a, const char *what) {
-  if (a.singular()) throw ScriptError(std::string(what));
+Affine checked(const Affine &a, const std::string &what) {
+  if (a.singular()) throw ScriptError(what);
   return a;
 }
 
@@ -141,7 +142,13 @@ void registerValueClasses(Registry &reg) {
     a.m[0][0] = sx;
     a.m[1][1] = sy.value_or(sx);
     a.m[2][2] = sz.value_or(sx);
-    return checked(a, "Scale: the transform is singular (a scale factor is zero)");
+    const double sy1 = sy.value_or(sx), sz1 = sz.value_or(sx);
+    if (sx == 0 || sy1 == 0 || sz1 == 0)
+      return checked(a, "Scale: the transform is singular (a scale factor is zero)");
+    return checked(a, "Scale(" + readableNumber(sx) + ", " + readableNumber(sy1) + ", " +
+                          readableNumber(sz1) +
+                          "): the factors are too large or too small to invert (their product "
+                          "is out of a double's range)");
   });
   reg.function("Rotate", +[](const Vec3 &axis, double degrees) {
     return checked(Transform::rotate(axis, degrees), "Rotate: the axis has zero length");

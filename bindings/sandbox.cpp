@@ -3,80 +3,154 @@
 
 #include "bindings/lua_binding.h"
 
+#include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace lray::lua {
 
 namespace {
 
-// Runs with the unrestricted functions as arguments and replaces the
-// globals by restricted wrappers; the originals stay only in upvalues.
-const char kSandboxSetup[] = R"lua(
-local rawload, rawopen, rawlines, readable, clock, time, date = ...
--- readable(path, what): the path resolved against the scene's folder, or
--- an error at the caller's line when it lies outside the folders a scene
--- may read, or is not a regular file.
-io = {
-  open = function(path, mode)
-    if mode ~= nil and mode ~= "r" and mode ~= "rb" then
-      error("io.open: only read mode is allowed in scene scripts (--unsafe lifts this)", 2)
-    end
-    return rawopen(readable(path, "io.open"), mode or "r")
-  end,
-  lines = function(path, ...)
-    if path == nil then error("io.lines: a file name is required in scene scripts", 2) end
-    return rawlines(readable(path, "io.lines"), ...)
-  end,
-}
-os = { clock = clock, time = time, date = date }
--- Finalizers run with the debug hooks off, so the timeout could not stop
--- one that loops, and one that resurrects an object the converter already
--- took could hand it freed memory: scene scripts get none. Lua marks an
--- object for finalization only when setmetatable sees __gc, so checking
--- here is enough.
-local rawsetmetatable, rawgetmetatable, rawget = setmetatable, getmetatable, rawget
--- Userdata (files, LRay objects) already have a C finalizer: a script that
--- could reach their metatable could swap a Lua function in.
-getmetatable = function(v)
-  if type(v) == "userdata" then return nil end
-  return rawgetmetatable(v)
-end
-setmetatable = function(t, mt)
-  if type(mt) == "table" and rawget(mt, "__gc") ~= nil then
-    error("setmetatable: __gc finalizers are not allowed in scene scripts (--unsafe lifts this)", 2)
-  end
-  return rawsetmetatable(t, mt)
-end
-load = function(chunk, name, mode, ...)
-  -- Binary chunks can break the interpreter's safety: text only.
-  return rawload(chunk, name, "t", ...)
-end
-loadfile = function(path, mode, ...)
-  local f, err = rawopen(readable(path, "loadfile"), "r")
-  if not f then return nil, err end
-  local text = f:read("a")
-  f:close()
-  return rawload(text, "@" .. path, "t", ...)
-end
-dofile = function(path)
-  local f, err = loadfile(path)
-  if not f then error(err, 2) end
-  return f()
-end
-)lua";
+// Each restricted function is a C closure whose first upvalue is the
+// unrestricted one: its checks call nothing a script can replace (a Lua
+// wrapper calling the global `error` or `type` could be talked out of its
+// check by a script that redefined them).
 
-/// The sandbox's readable(path, what): BindingContext::resolveReadPath,
-/// its refusal raised as an error at the script line that asked. The
-/// arguments are checked before protectedCall (their errors are Lua errors,
-/// which must not cross its C++ objects).
-int readable(lua_State *L) {
-  const char *path = luaL_checkstring(L, 1);
-  const char *what = luaL_checkstring(L, 2);
-  return protectedCall(L, [&] {
+/// Raises `message` as an error at the script line that called.
+[[noreturn]] void refuse(lua_State *L, const char *message) {
+  pushErrorMessage(L, message);
+  lua_error(L);
+  std::abort(); // lua_error does not return
+}
+
+/// Pushes the path at `index` resolved against the scene's folder
+/// (BindingContext::resolveReadPath), or raises its refusal at the
+/// caller's line. The path is checked before protectedCall (a Lua error
+/// must not cross its C++ objects).
+void pushReadable(lua_State *L, int index, const char *what) {
+  const char *path = luaL_checkstring(L, index);
+  protectedCall(L, [&] {
     const std::string resolved = BindingContext::of(L).resolveReadPath(path, what);
     lua_pushlstring(L, resolved.data(), resolved.size());
     return 1;
   });
+}
+
+/// Calls the closure's unrestricted function (upvalue 1) with the values
+/// pushed above `base`, returning all its results.
+int callRaw(lua_State *L, int base) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, base + 1);
+  lua_call(L, lua_gettop(L) - base - 1, LUA_MULTRET);
+  return lua_gettop(L) - base;
+}
+
+int open(lua_State *L) {
+  const char *mode = luaL_optstring(L, 2, "r");
+  if (std::strcmp(mode, "r") != 0 && std::strcmp(mode, "rb") != 0)
+    refuse(L, "io.open: only read mode is allowed in scene scripts (--unsafe lifts this)");
+  const int base = lua_gettop(L);
+  pushReadable(L, 1, "io.open");
+  lua_pushstring(L, mode);
+  return callRaw(L, base);
+}
+
+int lines(lua_State *L) {
+  if (lua_isnoneornil(L, 1)) refuse(L, "io.lines: a file name is required in scene scripts");
+  const int args = lua_gettop(L), base = args;
+  pushReadable(L, 1, "io.lines");
+  for (int i = 2; i <= args; ++i) lua_pushvalue(L, i);
+  return callRaw(L, base);
+}
+
+// Userdata (files, LRay objects) have C finalizers: a script that could
+// reach their metatable could swap a Lua function in.
+int getmetatable(lua_State *L) {
+  if (lua_type(L, 1) == LUA_TUSERDATA) {
+    lua_pushnil(L);
+    return 1;
+  }
+  const int base = lua_gettop(L);
+  lua_pushvalue(L, 1);
+  return callRaw(L, base);
+}
+
+// Finalizers run with the debug hooks off, so the timeout could not stop
+// one that loops, and one that resurrects an object the converter already
+// took could hand it freed memory: scene scripts get none. Lua marks an
+// object for finalization only when setmetatable sees __gc, so checking
+// here is enough.
+int setmetatable(lua_State *L) {
+  if (lua_type(L, 2) == LUA_TTABLE) {
+    lua_pushliteral(L, "__gc");
+    const bool gc = lua_rawget(L, 2) != LUA_TNIL;
+    lua_pop(L, 1);
+    if (gc)
+      refuse(L, "setmetatable: __gc finalizers are not allowed in scene scripts (--unsafe lifts "
+                "this)");
+  }
+  const int args = lua_gettop(L), base = args;
+  for (int i = 1; i <= args; ++i) lua_pushvalue(L, i);
+  return callRaw(L, base);
+}
+
+// Binary chunks can break the interpreter's safety: text only.
+int load(lua_State *L) {
+  const int args = lua_gettop(L), base = args;
+  lua_pushvalue(L, 1);
+  lua_pushvalue(L, 2);
+  lua_pushliteral(L, "t");
+  if (args >= 4) lua_pushvalue(L, 4); // the environment
+  return callRaw(L, base);
+}
+
+/// loadfile(path, mode, env): the file's text through the unrestricted
+/// load (upvalue 1) as text only, read with the unrestricted io.open
+/// (upvalue 2) from a path the scene may read.
+int loadfile(lua_State *L) {
+  const int env = lua_gettop(L) >= 3 ? 3 : 0;
+  pushReadable(L, 1, "loadfile");
+  lua_pushvalue(L, lua_upvalueindex(2));
+  lua_pushvalue(L, -2);
+  lua_pushliteral(L, "r");
+  lua_call(L, 2, 2);
+  if (lua_isnil(L, -2)) return 2; // nil and the reason
+  lua_pop(L, 1);
+  const int file = lua_gettop(L);
+  lua_getfield(L, file, "read");
+  lua_pushvalue(L, file);
+  lua_pushliteral(L, "a");
+  lua_call(L, 2, 1);
+  const int text = lua_gettop(L);
+  lua_getfield(L, file, "close");
+  lua_pushvalue(L, file);
+  lua_call(L, 1, 0);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushvalue(L, text);
+  lua_pushfstring(L, "@%s", lua_tostring(L, 1));
+  lua_pushliteral(L, "t");
+  if (env) lua_pushvalue(L, env);
+  lua_call(L, env ? 4 : 3, LUA_MULTRET);
+  return lua_gettop(L) - text;
+}
+
+/// dofile(path): the restricted loadfile (upvalue 1), then the chunk.
+int dofile(lua_State *L) {
+  const int base = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushvalue(L, 1);
+  lua_call(L, 1, 2);
+  if (lua_isnil(L, -2)) refuse(L, lua_tostring(L, -1) ? lua_tostring(L, -1) : "dofile failed");
+  lua_pop(L, 1);
+  lua_call(L, 0, LUA_MULTRET);
+  return lua_gettop(L) - base;
+}
+
+/// Replaces global `name` by `f` with the global's old value as upvalue.
+void wrapGlobal(lua_State *L, const char *name, lua_CFunction f) {
+  lua_getglobal(L, name);
+  lua_pushcclosure(L, f, 1);
+  lua_setglobal(L, name);
 }
 
 } // namespace
@@ -93,21 +167,38 @@ void openLibraries(lua_State *L, bool unsafe) {
     luaL_requiref(L, lib.name, lib.func, 1);
     lua_pop(L, 1);
   }
-  if (luaL_loadbufferx(L, kSandboxSetup, sizeof kSandboxSetup - 1, "=sandbox", "t") != LUA_OK)
-    lua_error(L); // a bug in the text above; only at startup
-  lua_getglobal(L, "load");
+  wrapGlobal(L, "getmetatable", &getmetatable);
+  wrapGlobal(L, "setmetatable", &setmetatable);
+  // io: read-only open and lines; the full library stays reachable only
+  // from C (the registry) and as the closures' upvalues.
   luaL_requiref(L, LUA_IOLIBNAME, luaopen_io, 0);
-  lua_getfield(L, -1, "open");
-  lua_getfield(L, -2, "lines");
-  lua_remove(L, -3);
-  lua_pushcfunction(L, &readable);
+  const int io = lua_gettop(L);
+  lua_newtable(L);
+  lua_getfield(L, io, "open");
+  lua_pushcclosure(L, &open, 1);
+  lua_setfield(L, -2, "open");
+  lua_getfield(L, io, "lines");
+  lua_pushcclosure(L, &lines, 1);
+  lua_setfield(L, -2, "lines");
+  lua_setglobal(L, "io");
+  lua_getglobal(L, "load"); // the unrestricted load, for loadfile
+  lua_getfield(L, io, "open");
+  lua_pushcclosure(L, &loadfile, 2);
+  lua_pushvalue(L, -1);
+  lua_setglobal(L, "loadfile");
+  lua_pushcclosure(L, &dofile, 1);
+  lua_setglobal(L, "dofile");
+  wrapGlobal(L, "load", &load);
+  lua_settop(L, io - 1);
+  // os: the clock and calendar only.
   luaL_requiref(L, LUA_OSLIBNAME, luaopen_os, 0);
-  lua_getfield(L, -1, "clock");
-  lua_getfield(L, -2, "time");
-  lua_getfield(L, -3, "date");
-  lua_remove(L, -4);
-  // The full io and os tables stay reachable only from C (the registry).
-  lua_call(L, 7, 0);
+  lua_newtable(L);
+  for (const char *name : {"clock", "time", "date"}) {
+    lua_getfield(L, -2, name);
+    lua_setfield(L, -2, name);
+  }
+  lua_setglobal(L, "os");
+  lua_pop(L, 1);
 }
 
 } // namespace lray::lua

@@ -1,5 +1,6 @@
 // Pipeline: script -> scene description. See script_watchdog.h.
 #include "bindings/script_watchdog.h"
+#include "util/printable_text.h"
 
 #include <cstdio>
 #include <unistd.h>
@@ -44,7 +45,7 @@ void ScriptWatchdog::watch() {
     if (wake_.wait_until(lock, limit, [&] { return stopping_ || !armed_ || generation_ != generation; }))
       continue;
     // Still in the same call, past its deadline and the grace period.
-    std::fprintf(stderr, "lray: error: %s\n", message_.c_str());
+    std::fprintf(stderr, "lray: error: %s\n", printableText(message_).c_str());
     std::fflush(stderr);
     _exit(1);
   }

@@ -1,9 +1,11 @@
 // Pipeline: application. The frame loop of the lray CLI.
 #include "app/app.h"
+#include "util/printable_text.h"
 
 #include "app/progress_bar.h"
 #include "app/watch/watch_loop.h"
 #include "bindings/scene_script.h"
+#include "render/output_file.h"
 #include "render/tile_file.h"
 #include "run/frame_pipeline.h"
 #include "run/limit_options.h"
@@ -52,27 +54,6 @@ void prepareOutDir(const std::string &dir) {
     throw SceneError("output folder '" + dir + "' is not writable");
 }
 
-void writeTextAtomically(const std::string &path, const std::string &text) {
-  std::string tmp = path + ".tmp" + std::to_string(getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out.flush()) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw SceneError("cannot write '" + path + "'");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    // A directory under the final name, say: the temporary file must not stay.
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw SceneError("cannot write '" + path + "': " + ec.message());
-  }
-}
-
 std::string fileBytes(const std::string &path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -101,6 +82,9 @@ int run(const Options &opt) {
     fs::path statsDir = fs::path(opt.statsPath).parent_path();
     if (!statsDir.empty() && !fs::is_directory(statsDir))
       throw SceneError("--stats: folder '" + statsDir.string() + "' does not exist");
+    if (fs::is_directory(opt.statsPath))
+      throw SceneError("cannot write statistics '" + opt.statsPath +
+                       "': a folder of that name is in the way");
   }
 
   int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
@@ -145,7 +129,7 @@ int run(const Options &opt) {
       else if (tiled && completeImage(finalPath, opt.format, info.imageWidth, info.imageHeight))
         done = finalPath;
       if (!done.empty()) {
-        if (!opt.quiet) std::printf("%s exists: skipped\n", done.c_str());
+        if (!opt.quiet) std::printf("%s exists: skipped\n", printableText(done).c_str());
         continue;
       }
     }
@@ -157,7 +141,7 @@ int run(const Options &opt) {
     bar.finish(frameStats.renderSeconds);
     if (!warned)
       for (const std::string &warning : frameStats.warnings)
-        std::fprintf(stderr, "lray: warning: %s\n", warning.c_str());
+        std::fprintf(stderr, "lray: warning: %s\n", printableText(warning).c_str());
     warned = true;
 
     t0 = std::chrono::steady_clock::now();
@@ -169,13 +153,14 @@ int run(const Options &opt) {
       writeImage(film, path, opt.format, opt.linear);
     frameStats.writeSeconds = secondsSince(t0);
     if (!opt.quiet && !bar.enabled())
-      std::printf("%s (%.2f s)\n", path.c_str(), frameStats.renderSeconds + frameStats.sceneSeconds);
+      std::printf("%s (%.2f s)\n", printableText(path).c_str(),
+                  frameStats.renderSeconds + frameStats.sceneSeconds);
     stats.frames.push_back(std::move(frameStats));
   }
   stats.totalSeconds = secondsSince(start);
   stats.peakMemoryBytes = peakMemoryBytes();
   setActivity("writing " + opt.statsPath);
-  if (!opt.statsPath.empty()) writeTextAtomically(opt.statsPath, toJson(stats));
+  if (!opt.statsPath.empty()) writeOutputFile(opt.statsPath, "statistics", toJson(stats));
   return 0;
 }
 
@@ -196,8 +181,11 @@ std::string describeUnexpectedError(const std::exception &e) {
 int runLray(int argc, const char *const *argv) {
   ParseResult parsed = parseOptions(argc, argv);
   if (!parsed.options) {
-    std::fputs(parsed.message.c_str(), parsed.exitCode == 0 ? stdout : stderr);
-    if (!parsed.message.empty() && parsed.message.back() != '\n')
+    // Help and version are LRay's own text; a usage error quotes the user's.
+    const std::string message =
+        parsed.exitCode == 0 ? parsed.message : printableText(parsed.message);
+    std::fputs(message.c_str(), parsed.exitCode == 0 ? stdout : stderr);
+    if (!message.empty() && message.back() != '\n')
       std::fputc('\n', parsed.exitCode == 0 ? stdout : stderr);
     return parsed.exitCode;
   }
@@ -208,13 +196,16 @@ int runLray(int argc, const char *const *argv) {
     }
     return run(*parsed.options);
   } catch (const SceneError &e) {
-    std::fprintf(stderr, "lray: error: %s\n", e.what());
+    std::fprintf(stderr, "lray: error: %s\n", printableText(e.what()).c_str());
   } catch (const std::exception &e) {
-    std::fprintf(stderr, "lray: error: %s: %s: %s\n", parsed.options->scenePath.c_str(),
-                 gActivity.c_str(), describeUnexpectedError(e).c_str());
+    std::fprintf(stderr, "lray: error: %s\n",
+                 printableText(parsed.options->scenePath + ": " + gActivity + ": " +
+                               describeUnexpectedError(e))
+                     .c_str());
   } catch (...) {
-    std::fprintf(stderr, "lray: error: %s: %s: an unknown error\n",
-                 parsed.options->scenePath.c_str(), gActivity.c_str());
+    std::fprintf(stderr, "lray: error: %s\n",
+                 printableText(parsed.options->scenePath + ": " + gActivity + ": an unknown error")
+                     .c_str());
   }
   return 1;
 }

@@ -2,11 +2,14 @@
 #include "app/merge.h"
 
 #include "render/tile_file.h"
+#include "shading/oiio_library.h"
+#include "util/printable_text.h"
 #include "util/scene_error.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -21,14 +24,55 @@ namespace {
 
 struct Piece {
   fs::path path;
-  int index = -1, count = -1; ///< from "tile-I-of-N"; -1 for a crop
-  Tile tile;
+  TileHeader header;
+  int index = -1, count = -1; ///< of a "tile-I-of-N"; -1 for a crop
 };
 
-/// Stitches one frame's tiles; "" or what is wrong.
+/// At most this many names in one message ("missing a, b, c and 996 more").
+constexpr size_t kNamesListed = 5;
+
+/// "tiles overlap at pixel (x, y) ('name')" for the first pixel (tiles in
+/// order, each row by row) that an earlier tile holds too, or "".
+std::string firstOverlap(const std::vector<Piece> &pieces) {
+  // Pairwise for the sets lray makes; a bitmap of the frame for more.
+  if (pieces.size() > 2048) {
+    const TileHeader &h0 = pieces.front().header;
+    std::vector<uint8_t> covered(static_cast<size_t>(h0.fullWidth) * h0.fullHeight, 0);
+    for (const Piece &p : pieces) {
+      const PixelWindow &w = p.header.window;
+      for (int y = w.y0; y < w.y1; ++y)
+        for (int x = w.x0; x < w.x1; ++x) {
+          uint8_t &c = covered[static_cast<size_t>(y) * h0.fullWidth + x];
+          if (c)
+            return fmt::format("tiles overlap at pixel ({}, {}) ('{}')", x, y,
+                               p.path.filename().string());
+          c = 1;
+        }
+    }
+    return {};
+  }
+  for (size_t k = 1; k < pieces.size(); ++k) {
+    const PixelWindow &w = pieces[k].header.window;
+    int bestX = -1, bestY = -1;
+    for (size_t j = 0; j < k; ++j) {
+      const PixelWindow &v = pieces[j].header.window;
+      const int x0 = std::max(w.x0, v.x0), y0 = std::max(w.y0, v.y0);
+      if (x0 >= std::min(w.x1, v.x1) || y0 >= std::min(w.y1, v.y1)) continue;
+      if (bestY < 0 || y0 < bestY || (y0 == bestY && x0 < bestX)) bestX = x0, bestY = y0;
+    }
+    if (bestY >= 0)
+      return fmt::format("tiles overlap at pixel ({}, {}) ('{}')", bestX, bestY,
+                         pieces[k].path.filename().string());
+  }
+  return {};
+}
+
+/// Stitches one frame's tiles, checked as a set from their headers before
+/// the frame is allocated; "" or what is wrong.
 std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::vector<Piece> &pieces,
                        bool keepTiles, std::vector<std::string> &written) {
-  const TileHeader &h0 = pieces.front().tile.header;
+  const TileHeader &h0 = pieces.front().header;
+  const std::string first = pieces.front().path.filename().string();
   // Tiles of an N-way split: all N there?
   std::set<int> counts, present;
   for (const Piece &p : pieces)
@@ -40,35 +84,52 @@ std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::v
   if (counts.size() == 1) {
     const int n = *counts.begin();
     std::string missing;
-    for (int i = 0; i < n; ++i)
-      if (!present.count(i)) missing += (missing.empty() ? "" : ", ") + tileFileName(finalName, i, n);
+    size_t listed = 0, more = 0;
+    for (int i = 0; i < n; ++i) {
+      if (present.count(i)) continue;
+      if (listed++ < kNamesListed) missing += (missing.empty() ? "" : ", ") + tileFileName(finalName, i, n);
+      else ++more;
+    }
+    if (more) missing += fmt::format(" and {} more", more);
     if (!missing.empty()) return finalName + ": missing " + missing;
   }
+  uint64_t area = 0;
   for (const Piece &p : pieces) {
-    const TileHeader &h = p.tile.header;
+    const TileHeader &h = p.header;
     if (h.fullWidth != h0.fullWidth || h.fullHeight != h0.fullHeight || h.format != h0.format ||
-        h.srgb != h0.srgb || p.tile.film.hasAovs() != pieces.front().tile.film.hasAovs())
+        h.srgb != h0.srgb)
       return finalName + ": tile '" + p.path.filename().string() +
-             "' was rendered with another size, format or encoding than '" +
-             pieces.front().path.filename().string() + "'";
+             "' was rendered with another size, format or encoding than '" + first + "'";
     if (h.render != h0.render)
-      return finalName + ": tile '" + p.path.filename().string() + "' and '" +
-             pieces.front().path.filename().string() +
+      return finalName + ": tile '" + p.path.filename().string() + "' and '" + first +
              "' come from different renders (another scene file, samples, seed or backend): "
              "render the frame's tiles again with the same scene and options";
+    area += static_cast<uint64_t>(h.window.x1 - h.window.x0) * (h.window.y1 - h.window.y0);
   }
+  // What the headers claim is checked before the frame is allocated: no
+  // two tiles overlap, and together they hold exactly its pixels (a 1 x 1
+  // tile cannot claim a huge frame).
+  if (std::string overlap = firstOverlap(pieces); !overlap.empty())
+    return finalName + ": " + overlap;
+  const uint64_t frame = static_cast<uint64_t>(h0.fullWidth) * h0.fullHeight;
+  if (area != frame)
+    return fmt::format("{}: its tiles hold {} pixels of its {} x {} ({} pixels): render the "
+                       "missing windows",
+                       finalName, area, h0.fullWidth, h0.fullHeight, frame);
   Film film(h0.fullWidth, h0.fullHeight);
-  if (pieces.front().tile.film.hasAovs()) film.enableAovs();
-  std::vector<uint8_t> covered(film.pixels(), 0);
-  for (const Piece &p : pieces) {
-    const PixelWindow &w = p.tile.header.window;
+  bool aovs = false;
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const Piece &p = pieces[k];
+    const Tile tile = readTile(p.path.string()); // one tile's pixels at a time
+    if (k == 0 && tile.film.hasAovs()) film.enableAovs();
+    if (k == 0) aovs = tile.film.hasAovs();
+    if (tile.film.hasAovs() != aovs || !(tile.header.window == p.header.window))
+      return finalName + ": tile '" + p.path.filename().string() +
+             "' was rendered with other layers than '" + first + "'";
+    const PixelWindow &w = p.header.window;
     for (int y = w.y0; y < w.y1; ++y)
       for (int x = w.x0; x < w.x1; ++x) {
-        uint8_t &c = covered[static_cast<size_t>(y) * film.width() + x];
-        if (c) return fmt::format("{}: tiles overlap at pixel ({}, {}) ('{}')", finalName, x, y,
-                                  p.path.filename().string());
-        c = 1;
-        const Film &t = p.tile.film;
+        const Film &t = tile.film;
         const int tx = x - w.x0, ty = y - w.y0;
         film.set(x, y, t.get(tx, ty));
         film.setError(x, y, t.error(tx, ty));
@@ -76,17 +137,13 @@ std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::v
         if (film.hasAovs()) film.aov(x, y) = t.aov(tx, ty);
       }
   }
-  for (size_t i = 0; i < covered.size(); ++i)
-    if (!covered[i])
-      return fmt::format("{}: no tile holds pixel ({}, {}): render the missing window", finalName,
-                         i % film.width(), i / film.width());
   const fs::path out = dir / finalName;
   writeImage(film, out.string(), h0.format, h0.srgb);
   written.push_back(out.string());
   if (!keepTiles)
     for (const Piece &p : pieces) {
       std::error_code ec;
-      fs::remove(p.path, ec);
+      if (!fs::equivalent(p.path, out, ec)) fs::remove(p.path, ec);
     }
   return {};
 }
@@ -97,7 +154,9 @@ MergeResult mergeTiles(const std::string &dirName, bool keepTiles) {
   const fs::path dir(dirName);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw SceneError("'" + dirName + "' is not a folder");
-  static const std::regex kTileName(R"(^[^.].*\.(tile-(\d{1,6})-of-(\d{1,6})|crop-\d+-\d+-\d+-\d+)\.exr$)");
+  // Any name lray gives a tile: frames whose names start with a dot or
+  // hold a newline included (readTileHeader checks the whole name).
+  static const std::regex kTileName(R"(^[\s\S]+\.(tile-(\d{1,6})-of-(\d{1,6})|crop-\d+-\d+-\d+-\d+)\.exr$)");
   std::map<std::string, std::vector<Piece>> frames;
   MergeResult result;
   std::vector<fs::path> files;
@@ -114,18 +173,21 @@ MergeResult mergeTiles(const std::string &dirName, bool keepTiles) {
       p.index = std::stoi(m[2]);
       p.count = std::stoi(m[3]);
     }
-    try {
-      p.tile = readTile(file.string());
-    } catch (const SceneError &err) {
+    try { // a bad tile is named, and the others still merge
+      FloatWindow header;
+      p.header = readTileHeader(file.string(), header);
+    } catch (const std::exception &err) {
       result.problems.push_back(err.what());
       continue;
     }
-    frames[p.tile.header.finalName].push_back(std::move(p));
+    frames[p.header.finalName].push_back(std::move(p));
   }
   for (auto &[finalName, pieces] : frames) {
     std::string why;
     try {
       why = mergeFrame(dir, finalName, pieces, keepTiles, result.written);
+    } catch (const std::bad_alloc &) {
+      why = finalName + ": out of memory";
     } catch (const std::exception &e) { // one frame's failure leaves the others to merge
       why = finalName + ": " + e.what();
     }
@@ -152,13 +214,15 @@ int runMerge(int argc, const char *const *argv) {
   try {
     MergeResult r = mergeTiles(dir, keep);
     if (!quiet) {
-      for (const std::string &w : r.written) std::printf("%s\n", w.c_str());
-      if (r.written.empty() && r.problems.empty()) std::printf("lray-merge: no tiles in '%s'\n", dir.c_str());
+      for (const std::string &w : r.written) std::printf("%s\n", printableText(w).c_str());
+      if (r.written.empty() && r.problems.empty())
+        std::printf("lray-merge: no tiles in '%s'\n", printableText(dir).c_str());
     }
-    for (const std::string &p : r.problems) std::fprintf(stderr, "lray-merge: error: %s\n", p.c_str());
+    for (const std::string &p : r.problems)
+      std::fprintf(stderr, "lray-merge: error: %s\n", printableText(p).c_str());
     return r.problems.empty() ? 0 : 1;
   } catch (const std::exception &e) {
-    std::fprintf(stderr, "lray-merge: error: %s\n", e.what());
+    std::fprintf(stderr, "lray-merge: error: %s\n", printableText(e.what()).c_str());
     return 1;
   }
 }

@@ -4,6 +4,7 @@
 #include "render/image_writer.h"
 
 #include "shading/oiio_library.h"
+#include "util/scene_error.h"
 
 #include <png.h>
 #include <stb/stb_image_write.h>
@@ -12,16 +13,11 @@
 #include <cstdio>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <filesystem>
-#include <functional>
 #include <stdexcept>
-#include <unistd.h>
+#include <string_view>
 
 namespace lray {
-
-namespace fs = std::filesystem;
 
 std::string formatExtension(ImageFormat format) {
   switch (format) {
@@ -47,20 +43,19 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
 
 namespace {
 
-/// libpng's output: a FILE (png_init_io) or this memory buffer.
+/// libpng's output: this memory buffer.
 void appendToBuffer(png_structp png, png_bytep data, png_size_t length) {
   auto *out = static_cast<std::vector<uint8_t> *>(png_get_io_ptr(png));
   out->insert(out->end(), data, data + length);
 }
 void flushNothing(png_structp) {}
 
-/// 8-bit RGB rows to a PNG file; "" or the reason it failed. With `srgb`
-/// the file says its values are sRGB-encoded (an sRGB chunk); without, it
-/// carries no colour-space chunk: the values are written as computed.
-std::string writePng(const std::string &path, int width, int height, const uint8_t *rgb,
-                     bool srgb, std::vector<uint8_t> *memory = nullptr) {
-  std::FILE *file = memory ? nullptr : std::fopen(path.c_str(), "wb");
-  if (!file && !memory) return "cannot create the file";
+/// 8-bit RGB rows as a PNG file in `memory`; "" or the reason it failed.
+/// With `srgb` the file says its values are sRGB-encoded (an sRGB chunk);
+/// without, it carries no colour-space chunk: the values are written as
+/// computed.
+std::string writePng(int width, int height, const uint8_t *rgb, bool srgb,
+                     std::vector<uint8_t> &memory) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   std::string why;
@@ -68,10 +63,9 @@ std::string writePng(const std::string &path, int width, int height, const uint8
   if (!png || !info) {
     why = "libpng: out of memory";
   } else if (setjmp(png_jmpbuf(png))) {
-    why = "libpng could not write it";
+    why = "libpng could not encode it";
   } else {
-    if (memory) png_set_write_fn(png, memory, &appendToBuffer, &flushNothing);
-    else png_init_io(png, file);
+    png_set_write_fn(png, &memory, &appendToBuffer, &flushNothing);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
                  PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
@@ -82,7 +76,6 @@ std::string writePng(const std::string &path, int width, int height, const uint8
     png_write_end(png, nullptr);
   }
   png_destroy_write_struct(png ? &png : nullptr, info ? &info : nullptr);
-  if (file && std::fclose(file) != 0 && why.empty()) why = "cannot finish the file";
   return why;
 }
 
@@ -90,7 +83,7 @@ std::string writePng(const std::string &path, int width, int height, const uint8
 
 std::vector<uint8_t> encodePng(const Film &film, bool srgb) {
   std::vector<uint8_t> bytes = quantizeFilm(film, srgb), png;
-  if (std::string why = writePng("", film.width(), film.height(), bytes.data(), srgb, &png); !why.empty())
+  if (std::string why = writePng(film.width(), film.height(), bytes.data(), srgb, png); !why.empty())
     throw std::runtime_error("cannot encode the image as PNG: " + why);
   return png;
 }
@@ -118,38 +111,32 @@ std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channel
   return pixels;
 }
 
-void writeAtomically(const std::string &path, const char *what,
-                     const std::function<std::string(const std::string &tmp)> &write) {
-  static std::atomic<unsigned> counter{0};
-  fs::path finalPath(path);
-  // Keep the extension last: OpenImageIO picks the EXR writer from it.
-  fs::path tmpPath = finalPath.parent_path() /
-                     ("." + finalPath.stem().string() + ".tmp" + std::to_string(getpid()) + "_" +
-                      std::to_string(counter++) + finalPath.extension().string());
-  auto fail = [&](const std::string &why) {
-    std::error_code ec;
-    fs::remove(tmpPath, ec);
-    throw std::runtime_error(std::string("cannot write ") + what + " '" + path + "': " + why);
-  };
-  if (std::string why = write(tmpPath.string()); !why.empty()) fail(why);
-  std::error_code ec;
-  fs::rename(tmpPath, finalPath, ec);
-  if (ec) fail(ec.message());
-}
-
 void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb) {
-  writeAtomically(path, "image", [&](const std::string &tmp) -> std::string {
-    if (format == ImageFormat::Exr) {
+  if (format == ImageFormat::Exr) {
+    writeAtomically(path, "image", [&](const std::string &tmp) -> std::string {
       std::vector<std::string> channels;
       std::vector<float> pixels = exrPixels(film, channels);
       return oiioLibrary().writeFloat(tmp, film.width(), film.height(), channels, pixels.data());
-    }
-    std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
-    if (format == ImageFormat::Png) return writePng(tmp, film.width(), film.height(), bytes.data(), srgb);
-    if (!stbi_write_tga(tmp.c_str(), film.width(), film.height(), 3, bytes.data()))
-      return "cannot write the TGA file";
-    return {};
-  });
+    });
+    return;
+  }
+  // PNG and TGA are encoded in memory, so that every write of the file
+  // itself is checked (stb ignores its write errors; libpng's FILE output
+  // reports them without the reason).
+  std::vector<uint8_t> bytes;
+  if (format == ImageFormat::Png) {
+    bytes = encodePng(film, srgb);
+  } else {
+    const std::vector<uint8_t> rgb = quantizeFilm(film, srgb);
+    auto append = [](void *out, void *data, int size) {
+      auto *v = static_cast<std::vector<uint8_t> *>(out);
+      v->insert(v->end(), static_cast<uint8_t *>(data), static_cast<uint8_t *>(data) + size);
+    };
+    if (!stbi_write_tga_to_func(append, &bytes, film.width(), film.height(), 3, rgb.data()))
+      throw SceneError("cannot encode the image '" + path + "' as TGA");
+  }
+  writeOutputFile(path, "image",
+                  std::string_view(reinterpret_cast<const char *>(bytes.data()), bytes.size()));
 }
 
 } // namespace lray

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "render/film.h"
+#include "render/output_file.h"
 
 #include <cstdint>
 #include <functional>
@@ -33,18 +34,10 @@ std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channel
 /// live preview serves it).
 std::vector<uint8_t> encodePng(const Film &film, bool srgb);
 
-/// Writes a file under a temporary name in `path`'s folder (`write` gets
-/// that name and returns "" or why it failed), then renames it over `path`:
-/// a final name never holds a half-written file. Throws std::runtime_error
-/// "cannot write <what> '<path>': ..." and removes the temporary file.
-void writeAtomically(const std::string &path, const char *what,
-                     const std::function<std::string(const std::string &tmp)> &write);
-
 /// Writes `film` to `path` in `format`: PNG/TGA 8 bits per channel (clamped,
 /// rounded; sRGB-encoded when `srgb`), EXR 32-bit float unclamped. Writes a
-/// temporary file in the same folder and renames it over `path`.
-/// Throws std::runtime_error naming the path on failure (and removes the
-/// temporary file).
+/// complete file or none (render/output_file.h). Throws SceneError naming
+/// the path and the reason on failure.
 void writeImage(const Film &film, const std::string &path, ImageFormat format, bool srgb);
 
 } // namespace lray

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <stb/stb_image.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 
@@ -88,12 +89,14 @@ void writeTile(const Film &film, const TileHeader &header, const std::string &pa
   });
 }
 
-Tile readTile(const std::string &path) {
-  FloatWindow image;
-  if (std::string why = oiioLibrary().readFloatWindow(path, image); !why.empty())
+/// The most channels an LRay tile has: R, G, B, Error, SampleCount and the
+/// seven AOV channels.
+constexpr size_t kMaxTileChannels = 12;
+
+TileHeader readTileHeader(const std::string &path, FloatWindow &image) {
+  if (std::string why = oiioLibrary().readFloatWindow(path, image, false); !why.empty())
     throw SceneError("tile '" + path + "': " + why);
-  Tile tile;
-  TileHeader &h = tile.header;
+  TileHeader h;
   std::string format, encoding;
   for (const auto &[name, value] : image.attributes) {
     if (name == kFinal) h.finalName = value;
@@ -105,15 +108,6 @@ Tile readTile(const std::string &path) {
       (encoding != "srgb" && encoding != "linear"))
     throw SceneError("tile '" + path + "': not a tile written by lray --tile or --crop (no "
                      "frame name, format or encoding in its header)");
-  // The frame it names is the one its own file name says, in its format:
-  // a tile cannot make lray-merge write any other file.
-  const std::string tileName = fs::path(path).filename().string();
-  const fs::path finalPath(h.finalName);
-  if (finalPath.filename() != finalPath || finalPath.stem().string().empty() ||
-      tileName.rfind(finalPath.stem().string() + ".", 0) != 0 ||
-      finalPath.extension() != "." + formatExtension(h.format))
-    throw SceneError("tile '" + path + "': it names the frame '" + h.finalName +
-                     "', which is not its own");
   h.srgb = encoding == "srgb";
   h.fullWidth = image.fullWidth;
   h.fullHeight = image.fullHeight;
@@ -126,6 +120,44 @@ Tile readTile(const std::string &path) {
   if (image.x0 < 0 || image.y0 < 0 || x1 > h.fullWidth || y1 > h.fullHeight)
     throw SceneError("tile '" + path + "': its pixels lie outside its frame");
   h.window = {image.x0, image.y0, static_cast<int>(x1), static_cast<int>(y1)};
+  // Its own file name must be the one lray gives a tile (or crop) of the
+  // frame it names, in that frame's folder: so it cannot make lray-merge
+  // write (and then remove) any other file, its own included.
+  const std::string name = fs::path(path).filename().string();
+  const fs::path finalPath(h.finalName);
+  bool ownName = finalPath.filename() == finalPath && !finalPath.stem().string().empty() &&
+                 finalPath.extension() == "." + formatExtension(h.format) &&
+                 name == cropFileName(h.finalName, h.window);
+  const std::string prefix = finalPath.stem().string() + ".tile-";
+  if (!ownName && name.rfind(prefix, 0) == 0) {
+    int index = -1, count = -1;
+    char end = 0;
+    if (std::sscanf(name.c_str() + prefix.size(), "%6d-of-%6d.ex%c", &index, &count, &end) == 3)
+      ownName = index >= 0 && index < count && name == tileFileName(h.finalName, index, count) &&
+                finalPath.filename() == finalPath &&
+                finalPath.extension() == "." + formatExtension(h.format);
+  }
+  if (!ownName)
+    throw SceneError("tile '" + path + "': it names the frame '" + h.finalName +
+                     "', which is not its own (lray calls that frame's tiles " +
+                     finalPath.stem().string() + ".tile-I-of-N.exr)");
+  if (image.channels.size() > kMaxTileChannels)
+    throw SceneError("tile '" + path + "': " + std::to_string(image.channels.size()) +
+                     " channels, more than an LRay tile has (" +
+                     std::to_string(kMaxTileChannels) + ")");
+  return h;
+}
+
+Tile readTile(const std::string &path) {
+  FloatWindow image;
+  Tile tile;
+  tile.header = readTileHeader(path, image);
+  if (std::string why = oiioLibrary().readFloatWindow(path, image, true); !why.empty())
+    throw SceneError("tile '" + path + "': " + why);
+  const TileHeader &h = tile.header;
+  if (image.x0 != h.window.x0 || image.y0 != h.window.y0 ||
+      image.x0 + image.width != h.window.x1 || image.y0 + image.height != h.window.y1)
+    throw SceneError("tile '" + path + "': it changed while it was read");
   const auto &ch = image.channels;
   const size_t nc = ch.size();
   auto at = [&](const char *name) -> int {
@@ -160,11 +192,15 @@ bool completeTile(const std::string &path, const TileHeader &expected) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
   try {
-    const TileHeader h = readTile(path).header;
-    return h.finalName == expected.finalName && h.format == expected.format &&
-           h.srgb == expected.srgb && h.fullWidth == expected.fullWidth &&
-           h.fullHeight == expected.fullHeight && h.window == expected.window &&
-           h.render == expected.render;
+    FloatWindow image;
+    const TileHeader h = readTileHeader(path, image);
+    const bool same = h.finalName == expected.finalName && h.format == expected.format &&
+                      h.srgb == expected.srgb && h.fullWidth == expected.fullWidth &&
+                      h.fullHeight == expected.fullHeight && h.window == expected.window &&
+                      h.render == expected.render;
+    if (!same) return false;
+    readTile(path); // decoded in full only when it is the tile wanted: a file cut short fails
+    return true;
   } catch (const SceneError &) {
     return false;
   }
@@ -174,9 +210,12 @@ bool completeImage(const std::string &path, ImageFormat format, int width, int h
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
   if (format == ImageFormat::Exr) {
+    // The header first: a huge file of another size is never decoded.
     FloatWindow image;
-    return oiioLibrary().readFloatWindow(path, image).empty() && image.width == width &&
-           image.height == height;
+    if (!oiioLibrary().readFloatWindow(path, image, false).empty() || image.width != width ||
+        image.height != height)
+      return false;
+    return oiioLibrary().readFloatWindow(path, image, true).empty();
   }
   int w = 0, h = 0, channels = 0;
   if (!stbi_info(path.c_str(), &w, &h, &channels) || w != width || h != height) return false;

@@ -15,6 +15,8 @@
 
 namespace lray {
 
+struct FloatWindow; // shading/oiio_library.h
+
 /// What a tile says about the frame it belongs to.
 struct TileHeader {
   std::string finalName; ///< the frame's file name, no folder (e.g. "ring0003.png")
@@ -53,6 +55,12 @@ struct Tile {
   Film film{0, 0};
 };
 Tile readTile(const std::string &path);
+
+/// readTile's checks on the header alone, before any pixel is decoded: an
+/// LRay tile's attributes, a frame within kMaxTextureTexels, a window inside
+/// it, at most LRay's channels, and a file name that is the one lray gives
+/// that window of that frame. `image` gets the header (no pixels).
+TileHeader readTileHeader(const std::string &path, FloatWindow &image);
 
 /// Whether `path` is a complete image of `width` x `height` pixels in
 /// `format` (fully decoded: a truncated file is not): --skip-existing.

@@ -218,6 +218,35 @@ void renderAovs(const Accel &accel, const Integ &integrator, const Scene &scene,
   });
 }
 
+namespace tile_detail {
+
+/// Runs `sample(rect, work, counts)` on every 16 x 16 tile of the frame,
+/// in parallel (TBB), each thread with its own work arrays and ray counts;
+/// `sample` returns false for a tile it left alone. Progress counts the
+/// tiles sampled. The one tile loop of fixed and adaptive sampling.
+template <class Integ, class Sample>
+void forEachTile(const FrameSettings &settings, tbb::combinable<RayCounts> &perThread,
+                 const ProgressFn &progress, Sample &&sample) {
+  using Tiles = tbb::blocked_range<size_t>;
+  const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
+  const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
+  const size_t tileCount = static_cast<size_t>(tilesX) * tilesY;
+  std::atomic<size_t> tilesDone{0};
+  tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
+    setFlushToZero();
+    static thread_local TileWork<Integ> work;
+    RayCounts &local = perThread.local();
+    for (size_t tile = r.begin(); tile != r.end(); ++tile) {
+      const TileRect rect(tile, tilesX, settings.width, settings.height);
+      if (!sample(rect, work, local)) continue;
+      const size_t done = ++tilesDone;
+      if (progress) progress(done, tileCount);
+    }
+  });
+}
+
+} // namespace tile_detail
+
 template <class Integ, class Accel>
 void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &images,
                  const FrameSettings &settings, Film &film, RayCounts &counts,
@@ -242,12 +271,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const bool pairedStrata = settings.adaptive;
   const Integ integrator(scene, accel, images, shares, settings.shadowSkips);
   const CameraRays camera(scene.camera, settings.width, settings.height);
-  const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
-  const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
-  const size_t tileCount = static_cast<size_t>(tilesX) * tilesY;
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
-  using Tiles = tbb::blocked_range<size_t>;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
   // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s.
   auto sobolPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
@@ -274,26 +299,20 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       }
       sobolPosition(x, y, pixel, s, sampler, px, py);
     };
-    std::atomic<size_t> tilesDone{0};
-    tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
-      setFlushToZero();
-      static thread_local TileWork<Integ> work;
-      RayCounts &local = perThread.local();
-      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
-        const TileRect rect(tile, tilesX, settings.width, settings.height);
-        if (!meets(rect, crop)) continue;
-        const size_t count = rect.pixels();
-        std::fill_n(work.first.begin(), count, 0u);
-        sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition, work, local);
-        for (size_t i = 0; i < count; ++i) {
-          const int x = rect.x(i), y = rect.y(i);
-          film.set(x, y, work.sums[i] * invSamples);
-          film.setError(x, y, static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
-          film.setSampleCount(x, y, total);
-        }
-        size_t done = ++tilesDone;
-        if (progress) progress(done, tileCount);
+    forEachTile<Integ>(settings, perThread, progress, [&](const TileRect &rect, TileWork<Integ> &work,
+                                                        RayCounts &local) {
+      if (!meets(rect, crop)) return false;
+      const size_t count = rect.pixels();
+      std::fill_n(work.first.begin(), count, 0u);
+      sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition,
+                 work, local);
+      for (size_t i = 0; i < count; ++i) {
+        const int x = rect.x(i), y = rect.y(i);
+        film.set(x, y, work.sums[i] * invSamples);
+        film.setError(x, y, static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
+        film.setSampleCount(x, y, total);
       }
+      return true;
     });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });
     if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
@@ -343,48 +362,41 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   int passes = 0;
   uint32_t target = minSamples; // maxSamples >= minSamples; 1: the centre-first pass
   for (int pass = 0;; ++pass) {
-    std::atomic<size_t> tilesDone{0};
-    tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
-      setFlushToZero();
-      static thread_local TileWork<Integ> work;
-      RayCounts &local = perThread.local();
-      for (size_t tile = r.begin(); tile != r.end(); ++tile) {
-        const TileRect rect(tile, tilesX, settings.width, settings.height);
-        if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) continue;
-        // The first pass always completes: every pixel needs a value.
-        if (pass > 0) {
-          if (stopped()) {
-            cancelled = true;
-            continue;
-          }
-          if (timed && std::chrono::steady_clock::now() >= deadline) {
-            timeUp = true;
-            continue;
-          }
+    forEachTile<Integ>(settings, perThread, progress, [&](const TileRect &rect, TileWork<Integ> &work,
+                                                        RayCounts &local) {
+      if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
+      // The first pass always completes: every pixel needs a value.
+      if (pass > 0) {
+        if (stopped()) {
+          cancelled = true;
+          return false;
         }
-        const size_t count = rect.pixels();
-        if (centreFirst && pass == 0) {
-          for (size_t i = 0; i < count; ++i)
-            work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
-          sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false,
-                     centrePosition, work, local);
-          for (size_t i = 0; i < count; ++i)
-            if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
-        } else {
-          for (size_t i = 0; i < count; ++i) {
-            const size_t p = buffer.index(rect.x(i), rect.y(i));
-            work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
-          }
-          sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
-                     sobolPosition, work, local);
-          for (size_t i = 0; i < count; ++i)
-            if (work.taken[i])
-              buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
-                         work.taken[i]);
+        if (timed && std::chrono::steady_clock::now() >= deadline) {
+          timeUp = true;
+          return false;
         }
-        size_t done = ++tilesDone;
-        if (progress) progress(done, tileCount);
       }
+      const size_t count = rect.pixels();
+      if (centreFirst && pass == 0) {
+        for (size_t i = 0; i < count; ++i)
+          work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
+        sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false, centrePosition,
+                   work, local);
+        for (size_t i = 0; i < count; ++i)
+          if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
+      } else {
+        for (size_t i = 0; i < count; ++i) {
+          const size_t p = buffer.index(rect.x(i), rect.y(i));
+          work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
+        }
+        sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
+                   sobolPosition, work, local);
+        for (size_t i = 0; i < count; ++i)
+          if (work.taken[i])
+            buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
+                       work.taken[i]);
+      }
+      return true;
     });
     ++passes;
     if (settings.onPass && !cancelled) {

@@ -1,4 +1,4 @@
-// Pipeline: application. One frame through the whole pipeline: scene(clock)
+// Pipeline: run. One frame through the whole pipeline: scene(clock)
 // -> scene model -> backend -> shading -> film. Shared by the CLI and the
 // reference-image checker so both render exactly the same way.
 #pragma once
@@ -15,11 +15,11 @@ class SceneScript;
 class ImageCache;
 
 /// Renders 0-based frame `frame` of `script` at the size and sampling of
-/// `info` with the backend named `backend` (accel/accelerator.h backends()),
+/// `info` with the backend named `backend` (render/backends.h backends()),
 /// filling `stats` (times, rays, backend figures, sampling). `sampling`
-/// gives the adaptive, light-sampling and cancel fields (app.h
-/// samplingSettings); the size, samples and frame come from `info` and
-/// `frame`.
+/// gives the adaptive, light-sampling and cancel fields (RunPlan's
+/// frameSettings, run/run_plan.h); the size, samples and frame come from
+/// `info` and `frame`.
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
                        std::string_view backend, ImageCache &images, FrameStats &stats,
                        const ProgressFn &progress = nullptr, const FrameSettings &sampling = {});

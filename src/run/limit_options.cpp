@@ -67,7 +67,7 @@ ScriptOptions scriptOptionsOf(const Options &opt) {
   s.memoryLimitBytes = opt.scriptMemory;
   s.allowRead = opt.allowRead;
   s.maxFileBytes = opt.maxFileBytes;
-  s.maxPixels = static_cast<uint64_t>(opt.maxPixels);
+  s.maxPixels = opt.maxPixelCount();
   s.maxLightSamples = static_cast<uint64_t>(std::min(opt.maxLightSamples, 4e18));
   return s;
 }

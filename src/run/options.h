@@ -7,6 +7,7 @@
 #include "render/frame_settings.h"
 #include "render/image_writer.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +50,10 @@ struct Options {
   std::vector<std::string> allowRead;        ///< --allow-read DIR (repeatable)
   uint64_t maxFileBytes = uint64_t{1} << 30; ///< --max-file-size: scene and OBJ files
   double maxPixels = 1e9; ///< cap on width * height * samples^2
+  /// --max-pixels as a count (any larger value than 2^64 is no cap).
+  uint64_t maxPixelCount() const {
+    return maxPixels >= 18446744073709549568.0 ? UINT64_MAX : static_cast<uint64_t>(maxPixels);
+  }
   double maxLightSamples = 65536; ///< cap on one light's shadow rays per shading point
 };
 

@@ -7,6 +7,7 @@
 #include "run/option_group.h"
 #include "run/option_text.h"
 #include "scene/scene_checks.h"
+#include "util/printable_text.h"
 
 #include <fmt/format.h>
 
@@ -105,7 +106,7 @@ SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options
   if (options.width) info.imageWidth = *options.width;
   if (options.height) info.imageHeight = *options.height;
   if (options.samples) info.samples = *options.samples;
-  validateSceneInfo(info, static_cast<uint64_t>(options.maxPixels), options.scenePath);
+  validateSceneInfo(info, options.maxPixelCount(), options.scenePath);
   if (options.lastFrame && *options.lastFrame >= info.frames)
     throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
                                  *options.firstFrame, *options.lastFrame, info.frames,
@@ -139,12 +140,11 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   if (s.adaptive) {
     const long double work = static_cast<long double>(info.imageWidth) * info.imageHeight *
                              a.maxSamples;
-    if (work > static_cast<long double>(options.maxPixels))
+    if (work > static_cast<long double>(options.maxPixelCount()))
       throw SceneError(fmt::format(
           "{}: image_width * image_height * max samples = {} exceeds the limit of {} (lower "
           "--max-samples or raise --max-pixels)",
-          options.scenePath, static_cast<unsigned long long>(work),
-          static_cast<unsigned long long>(options.maxPixels)));
+          options.scenePath, readableCount(work), readableCount(options.maxPixelCount())));
   }
   return s;
 }

@@ -13,6 +13,7 @@
 #include "shading/pigments/pigment_list.h"
 #include "shading/lights/light_list.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,10 +30,14 @@ struct SceneInfo {
   double startClock = 0;
   double endClock = 1;
 
-  /// Clock value for 0-based frame i (lua/README.md, "The scene file").
+  /// Clock value for 0-based frame i (lua/README.md, "The scene file"):
+  /// finite for any finite clocks, even where their difference is not.
   double clockForFrame(int i) const {
     if (frames <= 1) return startClock;
-    return startClock + (endClock - startClock) * i / (frames - 1);
+    const double span = endClock - startClock;
+    if (std::isfinite(span)) return startClock + span * i / (frames - 1);
+    const double t = static_cast<double>(i) / (frames - 1);
+    return startClock * (1 - t) + endClock * t;
   }
 };
 

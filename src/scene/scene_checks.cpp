@@ -1,6 +1,8 @@
 // Pipeline: scene description. See scene_checks.h.
 #include "scene/scene_checks.h"
 
+#include "util/printable_text.h"
+
 #include <filesystem>
 
 #include <algorithm>
@@ -30,8 +32,8 @@ void validateSceneInfo(const SceneInfo &info, uint64_t maxPixels, const std::str
                        info.samples * info.samples;
   if (pixels > static_cast<long double>(maxPixels))
     throw SceneError(loc, "SceneInfo: image_width * image_height * samples^2 = " +
-                              std::to_string(static_cast<unsigned long long>(pixels)) +
-                              " exceeds the limit of " + std::to_string(maxPixels) +
+                              readableCount(pixels) + " exceeds the limit of " +
+                              readableCount(maxPixels) +
                               " (raise it with --max-pixels)");
 }
 
@@ -64,9 +66,9 @@ void validateLightWork(const Scene &scene, uint64_t maxLightSamples) {
 std::optional<std::string> aspectWarning(const SceneInfo &info, const Camera &camera) {
   double imageAspect = double(info.imageWidth) / info.imageHeight;
   if (std::fabs(camera.aspect - imageAspect) <= 0.01 * imageAspect) return std::nullopt;
-  return "camera aspect " + std::to_string(camera.aspect) + " differs from the image's " +
+  return "camera aspect " + readableNumber(camera.aspect) + " differs from the image's " +
          std::to_string(info.imageWidth) + "/" + std::to_string(info.imageHeight) + " = " +
-         std::to_string(imageAspect) + " by more than 1 %: the image will be stretched";
+         readableNumber(imageAspect) + " by more than 1 %: the image will be stretched";
 }
 
 } // namespace lray

@@ -1,11 +1,11 @@
-// Pipeline: shading. The Whitted-style integrator of lua/README.md, "The shading
-// equation": ambient +
-// lights (with shadow rays) + mirror reflection + refraction with
-// absorption. A template over the concrete accelerator (a `final` class with
-// the member functions of accel/accelerator.h), so every query is a direct
-// call; its definitions are in integrator_impl.h, instantiated once per
-// backend where the backend is named (src/accel/*/..._render.cpp). One
-// instance per frame; const and thread-safe while rendering.
+// Pipeline: shading. The Whitted-style integrator of lua/README.md, "The
+// shading equation": ambient + lights (with shadow rays) + mirror
+// reflection + refraction with absorption. A template over the concrete
+// accelerator (a `final` class with the member functions of
+// accel/accelerator.h), so every query is a direct call; its definitions
+// are in integrator_impl.h, instantiated once per backend in
+// render/backends.cpp. One instance per frame; const and thread-safe while
+// rendering.
 #pragma once
 
 #include "math/hit.h"

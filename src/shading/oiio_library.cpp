@@ -1,14 +1,13 @@
-// Pipeline: shading. See oiio_library.h: dlopen of liblray_oiio.so, from the
-// build that made this program (LRAY_OIIO_MODULE) or beside the executable.
+// Pipeline: shading. See oiio_library.h: liblray_oiio.so, from the build
+// that made this program (LRAY_OIIO_MODULE) or beside the executable.
 #include "shading/oiio_library.h"
 
-#include <dlfcn.h>
+#include "util/module_loader.h"
 
 #include <atomic>
-#include <filesystem>
 #include <mutex>
 #include <stdexcept>
-#include <system_error>
+#include <string>
 
 namespace lray {
 
@@ -17,26 +16,12 @@ namespace {
 std::atomic<const OiioLibrary *> loaded{nullptr};
 
 const OiioLibrary *load() {
-  namespace fs = std::filesystem;
   std::string tried;
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path &candidate :
-       {fs::path(LRAY_OIIO_MODULE), ec ? fs::path() : exe.parent_path() / "liblray_oiio.so"}) {
-    if (candidate.empty()) continue;
-    // RTLD_LOCAL: the module's OpenImageIO symbols stay its own.
-    void *handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) {
-      const char *why = dlerror();
-      tried += "\n  " + candidate.string() + ": " + (why ? why : "cannot load");
-      continue;
-    }
-    auto entry = reinterpret_cast<const OiioLibrary *(*)()>(dlsym(handle, "lray_oiio_library"));
-    if (entry) return entry();
-    tried += "\n  " + candidate.string() + ": no lray_oiio_library";
-  }
-  throw std::runtime_error("cannot load LRay's OpenImageIO module (needed for image textures "
-                           "and EXR output):" + tried);
+  void *entry = loadModuleEntry(LRAY_OIIO_MODULE, "liblray_oiio.so", "lray_oiio_library", tried);
+  if (!entry)
+    throw std::runtime_error("cannot load LRay's OpenImageIO module (needed for image textures "
+                             "and EXR output):" + tried);
+  return reinterpret_cast<const OiioLibrary *(*)()>(entry)();
 }
 
 } // namespace

@@ -53,9 +53,11 @@ struct OiioLibrary {
                             const std::vector<std::string> &channels, const float *pixels);
   /// Writes `image` as an EXR with its windows and attributes; "" or why not.
   std::string (*writeFloatWindow)(const std::string &path, const FloatWindow &image);
-  /// Reads an image written by writeFloatWindow (any float image); "" or
-  /// why not. Refuses a header claiming more than kMaxTextureTexels pixels.
-  std::string (*readFloatWindow)(const std::string &path, FloatWindow &image);
+  /// Reads an image written by writeFloatWindow (any float image): its
+  /// header, and with `withPixels` its pixels; "" or why not. Refuses a
+  /// header claiming more than kMaxTextureTexels pixels or 64 channels
+  /// before allocating.
+  std::string (*readFloatWindow)(const std::string &path, FloatWindow &image, bool withPixels);
 };
 
 /// The module, loaded once (thread-safe); throws std::runtime_error naming

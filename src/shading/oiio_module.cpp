@@ -97,7 +97,7 @@ std::string writeFloatWindow(const std::string &path, const FloatWindow &image) 
   return {};
 }
 
-std::string readFloatWindow(const std::string &path, FloatWindow &image) {
+std::string readFloatWindow(const std::string &path, FloatWindow &image, bool withPixels) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     std::string why = OIIO::geterror();
@@ -118,6 +118,8 @@ std::string readFloatWindow(const std::string &path, FloatWindow &image) {
   for (const OIIO::ParamValue &p : spec.extra_attribs)
     if (p.type() == OIIO::TypeDesc::STRING)
       image.attributes.emplace_back(p.name().string(), p.get_string());
+  image.pixels.clear();
+  if (!withPixels) return {};
   image.pixels.resize(pixels * spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
     std::string why = in->geterror();

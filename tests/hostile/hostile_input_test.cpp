@@ -4,6 +4,7 @@
 // bound, its exit status, one readable message naming the file and line
 // (or the path or value), its peak memory, and that the output folder
 // holds nothing but complete images.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -19,6 +20,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -35,21 +37,29 @@ struct Outcome {
   std::string output;    ///< stdout + stderr
 };
 
-/// Runs lray with `args`, killing it after `limitSeconds`.
-Outcome runLray(const std::vector<std::string> &args, double limitSeconds) {
+/// Runs lray with `args`, killing it after `limitSeconds`; with
+/// `fileSizeLimit`, no file it writes may grow past that many bytes (a
+/// full disk, as far as the process can tell: writes fail with EFBIG).
+Outcome runProgram(const std::string &binary, const std::vector<std::string> &args,
+                   double limitSeconds, rlim_t fileSizeLimit = RLIM_INFINITY) {
   int pipeFds[2];
   if (pipe(pipeFds) != 0) return {};
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = fork();
   if (pid == 0) {
+    if (fileSizeLimit != RLIM_INFINITY) {
+      signal(SIGXFSZ, SIG_IGN);
+      const rlimit limit{fileSizeLimit, fileSizeLimit};
+      setrlimit(RLIMIT_FSIZE, &limit);
+    }
     dup2(pipeFds[1], 1);
     dup2(pipeFds[1], 2);
     close(pipeFds[0]);
     close(pipeFds[1]);
-    std::vector<char *> argv{const_cast<char *>(LRAY_BINARY)};
+    std::vector<char *> argv{const_cast<char *>(binary.c_str())};
     for (const std::string &a : args) argv.push_back(const_cast<char *>(a.c_str()));
     argv.push_back(nullptr);
-    execv(LRAY_BINARY, argv.data());
+    execv(binary.c_str(), argv.data());
     _exit(127);
   }
   close(pipeFds[1]);
@@ -80,6 +90,17 @@ Outcome runLray(const std::vector<std::string> &args, double limitSeconds) {
   out.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   out.peakKiB = usage.ru_maxrss;
   return out;
+}
+
+Outcome runLray(const std::vector<std::string> &args, double limitSeconds,
+                rlim_t fileSizeLimit = RLIM_INFINITY) {
+  return runProgram(LRAY_BINARY, args, limitSeconds, fileSizeLimit);
+}
+
+/// lray-merge, built beside lray.
+Outcome runMerge(const std::vector<std::string> &args, double limitSeconds) {
+  return runProgram((fs::path(LRAY_BINARY).parent_path() / "lray-merge").string(), args,
+                    limitSeconds);
 }
 
 class Hostile : public ::testing::Test {
@@ -458,6 +479,81 @@ TEST_F(Hostile, ABinaryChunkSceneIsRefusedNamingTheFile) {
   expectRefused({s, out()}, 1, "bin.lua", 10);
 }
 
+// The sandbox's checks live in C (bindings/sandbox.cpp): a script that
+// first replaces every global it could (error, type, rawget, tostring,
+// select, string, pcall, ... and the sandboxed functions' own names)
+// talks none of them out of its check.
+const std::string kEveryGlobalReplaced =
+    "scene_info = SceneInfo() { image_width = 2, image_height = 2 }\n"
+    "local open, lines, setmt, getmt, ld, ldfile, dofl = io.open, io.lines, setmetatable,\n"
+    "  getmetatable, load, loadfile, dofile\n"
+    "local Scene_ = Scene\n"
+    "local keys = {}\n"
+    "for k in pairs(_G) do keys[#keys + 1] = k end\n"
+    "local liar = function() return 'table' end\n"
+    "for _, k in ipairs(keys) do if k ~= '_G' and k ~= 'scene_info' then _G[k] = liar end end\n"
+    "function scene() return Scene_() end\n";
+
+TEST_F(Hostile, WritingIsRefusedEvenWithEveryGlobalReplaced) {
+  const std::string s = write("w.lua", kEveryGlobalReplaced + "local f = open('x.txt', 'w')\n");
+  expectRefused({s, out()}, 1, "w.lua:10: io.open: only read mode is allowed", 10);
+  EXPECT_FALSE(fs::exists(dir_ / "x.txt"));
+  const std::string a = write("a.lua", kEveryGlobalReplaced + "local f = open('y.txt', 'a+')\n");
+  expectRefused({a, out()}, 1, "a.lua:10: io.open: only read mode is allowed", 10);
+  EXPECT_FALSE(fs::exists(dir_ / "y.txt"));
+}
+
+TEST_F(Hostile, FinalizersAreRefusedEvenWithEveryGlobalReplaced) {
+  const std::string s = write(
+      "gc.lua", kEveryGlobalReplaced + "setmt({}, { __gc = function() while true do end end })\n");
+  expectRefused({s, out(), "--script-timeout", "1"}, 1,
+                "gc.lua:10: setmetatable: __gc finalizers are not allowed", 10);
+  // A metatable whose own metatable offers __gc is no way round the check
+  // either: Lua looks __gc up raw, as the check does, and the object is
+  // not marked for finalization.
+  const std::string t = write(
+      "gc2.lua", kEveryGlobalReplaced +
+                     "local mt = setmt({}, { __index = { __gc = function() while true do end "
+                     "end } })\nsetmt({}, mt)\n");
+  const Outcome o = runLray({t, out(), "--script-timeout", "1", "-q"}, 10);
+  EXPECT_FALSE(o.timedOut);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
+TEST_F(Hostile, ResurrectingAConvertedObjectIsRefusedEvenWithEveryGlobalReplaced) {
+  // The first round's trick: a finalizer that hands the converter an
+  // object it already freed. No finalizer can be installed, so no
+  // use-after-free (run under ASan by scripts/test).
+  const std::string s = write(
+      "res.lua", kEveryGlobalReplaced +
+                     "local keep\nsetmt({ t = Translate(Vector(1, 0, 0)) }, { __gc = function(o) "
+                     "keep = o.t end })\n");
+  expectRefused({s, out(), "--script-timeout", "1"}, 1,
+                "res.lua:11: setmetatable: __gc finalizers are not allowed", 10);
+}
+
+TEST_F(Hostile, UserdataMetatablesStayHiddenEvenWithEveryGlobalReplaced) {
+  const std::string s = write(
+      "mt.lua", kEveryGlobalReplaced +
+                    "local f = open('mt.lua')\nlocal mt = getmt(f)\nmt.__gc = function() end\n");
+  expectRefused({s, out(), "--script-timeout", "1"}, 1, "mt.lua:12: attempt to index a nil value",
+                10);
+}
+
+TEST_F(Hostile, BinaryChunksAndOutsideFilesAreRefusedEvenWithEveryGlobalReplaced) {
+  const std::string b = write("ld.lua", kEveryGlobalReplaced + "local f = ld('\\27Lua', 'x', 'b')\n"
+                                                               "if f then f() end\n");
+  const Outcome o = runLray({b, out()}, 10);
+  EXPECT_EQ(o.status, 0) << "load returns nil and a message for a binary chunk: " << o.output;
+  fs::remove_all(out());
+  const std::string f = write("lf.lua", kEveryGlobalReplaced + "local g = dofl('/etc/passwd')\n");
+  expectRefused({f, out()}, 1, "lf.lua:10: loadfile: '/etc/passwd'", 10);
+  const std::string l = write("li.lua", kEveryGlobalReplaced + "for x in lines('/etc/passwd') do end\n");
+  expectRefused({l, out()}, 1, "li.lua:10: io.lines: '/etc/passwd'", 10);
+  const std::string n = write("ln.lua", kEveryGlobalReplaced + "for x in lines() do end\n");
+  expectRefused({n, out()}, 1, "ln.lua:10: io.lines: a file name is required", 10);
+}
+
 TEST_F(Hostile, BinaryChunksThroughLoadAreRefused) {
   const std::string s = write("ld.lua", "local f = assert(load('\\27Lua'))" + kScene);
   expectRefused({s, out()}, 1, "ld.lua:1", 10);
@@ -595,6 +691,240 @@ TEST_F(Hostile, ARuntimeErrorInALaterFrameLeavesOnlyCompleteEarlierFrames) {
   for (const auto &e : fs::directory_iterator(out())) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"late0000.png", "late0001.png"}));
+}
+
+// ---- Numbers and messages: checked in a type that cannot overflow, printed
+// readably, bounded and escaped (util/printable_text.h).
+
+TEST_F(Hostile, AnOverflowingSampleCountIsReportedAsItsValue) {
+  const std::string s = write("s.lua", kScene);
+  const Outcome o = expectRefused({s, out(), "-s", "2147483647"}, 1, "samples^2 = 2.2", 10);
+  EXPECT_EQ(o.output.find("= 0 "), std::string::npos) << o.output;
+}
+
+TEST_F(Hostile, AHugePixelLimitIsNoLimitNotZero) {
+  const std::string s = write("p.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const Outcome o = runLray({s, out(), "--max-pixels", "1e300", "-q"}, 10);
+  EXPECT_EQ(o.status, 0) << o.output;
+}
+
+TEST_F(Hostile, AnUninvertibleScaleSaysSoAndNotZero) {
+  const std::string s = write("sc.lua", "local t = Scale(1e200)" + kScene);
+  const Outcome o = expectRefused({s, out()}, 1, "sc.lua:1: Scale(1e+200, 1e+200, 1e+200): the "
+                                                 "factors are too large or too small", 10);
+  EXPECT_EQ(o.output.find("is zero"), std::string::npos) << o.output;
+}
+
+TEST_F(Hostile, HugeNumbersInAWarningArePrintedShort) {
+  const std::string s = write(
+      "w.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }\n"
+               "function scene() return Scene() { camera = Perspective(45, 1e300) } end\n");
+  const Outcome o = runLray({s, out(), "-q"}, 10);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("camera aspect 1e+300 differs"), std::string::npos) << o.output;
+  EXPECT_LT(o.output.size(), 300u) << o.output;
+}
+
+TEST_F(Hostile, ExtremeClocksGiveEveryFrameAFiniteClock) {
+  const std::string s = write(
+      "c.lua", "scene_info = SceneInfo() { image_width = 2, image_height = 2, frames = 3,\n"
+               "  start_clock = -1e308, end_clock = 1e308 }\n"
+               "function scene(clock)\n"
+               "  if clock ~= clock or clock == math.huge or clock == -math.huge then\n"
+               "    error('clock ' .. tostring(clock))\n"
+               "  end\n"
+               "  return Scene()\n"
+               "end\n");
+  const Outcome o = runLray({s, out(), "-q"}, 10);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(fs::is_regular_file(fs::path(out()) / "c0001.png"));
+}
+
+TEST_F(Hostile, AHugeErrorMessageIsCutShort) {
+  const std::string s = write("big.lua", "error(string.rep('x', 10 * 1024 * 1024))" + kScene);
+  const Outcome o = expectRefused({s, out()}, 1, "big.lua:1: xxxx", 20);
+  EXPECT_LT(o.output.size(), 8192u);
+  EXPECT_NE(o.output.find("more bytes left out"), std::string::npos);
+}
+
+TEST_F(Hostile, EscapeSequencesAndInvalidUtf8NeverReachTheTerminal) {
+  const std::string s = write("esc.lua", "error('\\27[2J\\27]0;pwned\\7 \\255\\194\\155 ok \\u{e9}')" + kScene);
+  const Outcome o = expectRefused({s, out()}, 1, "esc.lua:1: \\x1b[2J\\x1b]0;pwned\\x07 \\xff\\u009b ok \xc3\xa9", 10);
+  EXPECT_EQ(o.output.find('\x1b'), std::string::npos);
+  EXPECT_EQ(o.output.find('\x07'), std::string::npos);
+  // A path with them, named in a message, is escaped the same way.
+  const Outcome p = expectRefused({(dir_ / "no\x1b[31mpe\xff.lua").string(), out()}, 1,
+                                  "no\\x1b[31mpe\\xff.lua", 10);
+  EXPECT_EQ(p.output.find('\x1b'), std::string::npos);
+}
+
+// ---- Output that never lies: a complete file or none, every error with its
+// path and reason, and what is not a regular file written to, never replaced.
+
+const std::string kNoisy =
+    "scene_info = SceneInfo() { image_width = 64, image_height = 64 }\n"
+    "function scene()\n"
+    "  local s = Scene() { camera = Perspective(45, 1) { transform = Translate(-4*z) } }\n"
+    "  s:add_entity(Sphere() { texture = Texture() { pigment = MarblePigment3D() } })\n"
+    "  s:add_light(Light() { transform = Translate(Vector(-3, 3, -3)) })\n"
+    "  return s\n"
+    "end\n";
+
+TEST_F(Hostile, AFileSizeLimitLeavesNoPartialImage) {
+  const std::string s = write("fs.lua", kNoisy);
+  for (const char *format : {"tga", "png", "exr"}) {
+    SCOPED_TRACE(format);
+    const Outcome o = runLray({s, out(), "-q", "-f", format, "-w", "200", "-H", "200"}, 20, 2048);
+    EXPECT_EQ(o.status, 1) << o.output;
+    EXPECT_NE(o.output.find("cannot write image '" + out() + "/fs." + format + "': "),
+              std::string::npos)
+        << o.output;
+    EXPECT_EQ(o.output.find("internal error"), std::string::npos) << o.output;
+    for (const auto &e : fs::directory_iterator(out())) ADD_FAILURE() << "left " << e.path();
+  }
+}
+
+TEST_F(Hostile, AnImageThroughALinkToADeviceIsWrittenThroughNotReplaced) {
+  const std::string s = write("dev.lua", kNoisy);
+  fs::create_directories(out());
+  const fs::path link = fs::path(out()) / "dev.png";
+  fs::create_symlink("/dev/full", link);
+  const Outcome o = runLray({s, out(), "-q"}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("cannot write image '" + link.string() + "': No space left on device"),
+            std::string::npos)
+      << o.output;
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(fs::read_symlink(link), "/dev/full");
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
+TEST_F(Hostile, StatsThroughALinkToDevNullLeaveTheDeviceAlone) {
+  const std::string s = write("st.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const fs::path link = dir_ / "stats.json";
+  fs::create_symlink("/dev/null", link);
+  const Outcome o = runLray({s, out(), "-q", "--stats", link.string()}, 20);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(fs::read_symlink(link), "/dev/null");
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // Into a full device: the reason, and exit 1.
+  const Outcome full = runLray({s, out(), "-q", "--stats", "/dev/full"}, 20);
+  EXPECT_EQ(full.status, 1) << full.output;
+  EXPECT_NE(full.output.find("cannot write statistics '/dev/full': No space left on device"),
+            std::string::npos)
+      << full.output;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
+TEST_F(Hostile, StatsThroughALinkToAFileReplaceTheFileAndKeepTheLink) {
+  const std::string s = write("sl.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  write("real.json", "old");
+  const fs::path link = dir_ / "stats.json";
+  fs::create_symlink(dir_ / "real.json", link);
+  const Outcome o = runLray({s, out(), "-q", "--stats", link.string()}, 20);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(fs::is_symlink(link));
+  std::ifstream in(dir_ / "real.json");
+  const std::string json{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  EXPECT_NE(json.find("\"lray_version\""), std::string::npos) << json;
+}
+
+TEST_F(Hostile, AFolderInTheWayOfAnImageIsNamed) {
+  const std::string s = write("fo.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  fs::create_directories(fs::path(out()) / "fo.png" / "inside");
+  const Outcome o = runLray({s, out(), "-q"}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("cannot write image '" + out() + "/fo.png': a folder of that name is "
+                          "in the way"),
+            std::string::npos)
+      << o.output;
+  EXPECT_EQ(o.output.find("internal error"), std::string::npos) << o.output;
+}
+
+// ---- lray-merge on crafted tiles: headers checked before anything is
+// allocated, every good set merged, every bad tile named, messages bounded.
+
+/// An EXR tile as lray writes them, but with whatever header it is given.
+void writeCraftedTile(const fs::path &path, int fullWidth, int fullHeight, int x0, int y0,
+                      int width, int height, int channels, const std::string &finalName,
+                      const std::string &format = "png") {
+  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
+  spec.x = x0;
+  spec.y = y0;
+  spec.full_width = fullWidth;
+  spec.full_height = fullHeight;
+  const char *names[] = {"R", "G", "B", "Error", "SampleCount"};
+  spec.channelnames.clear();
+  for (int c = 0; c < channels; ++c)
+    spec.channelnames.push_back(c < 5 ? names[c] : "X" + std::to_string(c));
+  spec.attribute("lray:final", finalName);
+  spec.attribute("lray:format", format);
+  spec.attribute("lray:encoding", "linear");
+  spec.attribute("lray:render", "0123456789abcdef");
+  spec.attribute("compression", "zip");
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out && out->open(path.string(), spec));
+  std::vector<float> pixels(static_cast<size_t>(width) * height * channels, 0.5f);
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  out->close();
+}
+
+TEST_F(Hostile, ATileClaimingAHugeFrameIsRefusedBeforeAllocating) {
+  fs::create_directories(out());
+  writeCraftedTile(fs::path(out()) / "big.tile-0-of-1.exr", 16384, 16384, 0, 0, 1, 1, 5, "big.png");
+  const Outcome o = runMerge({out()}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("big.png: its tiles hold 1 pixels of its 16384 x 16384"),
+            std::string::npos)
+      << o.output;
+  EXPECT_LT(o.peakKiB, 200 * 1024) << "peak memory";
+  EXPECT_FALSE(fs::exists(fs::path(out()) / "big.png"));
+}
+
+TEST_F(Hostile, OneBadTileLeavesTheGoodSetsToMergeAndIsNamed) {
+  const std::string s = write("good.lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
+  ASSERT_EQ(runLray({s, out(), "-q", "--tile", "0/2"}, 20).status, 0);
+  ASSERT_EQ(runLray({s, out(), "-q", "--tile", "1/2"}, 20).status, 0);
+  writeCraftedTile(fs::path(out()) / "bad.tile-0-of-1.exr", 8, 8, 0, 0, 8, 8, 16, "bad.png");
+  const Outcome o = runMerge({out()}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("bad.tile-0-of-1.exr': 16 channels, more than an LRay tile has"),
+            std::string::npos)
+      << o.output;
+  EXPECT_TRUE(fs::is_regular_file(fs::path(out()) / "good.png")) << o.output;
+}
+
+TEST_F(Hostile, AnAbsurdTileCountGivesAShortMessage) {
+  fs::create_directories(out());
+  writeCraftedTile(fs::path(out()) / "a.tile-0-of-999999.exr", 8, 8, 0, 0, 8, 8, 5, "a.png");
+  const Outcome o = runMerge({out()}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("and 999993 more"), std::string::npos) << o.output.substr(0, 500);
+  EXPECT_LT(o.output.size(), 4096u);
+}
+
+TEST_F(Hostile, ATileNamingItselfAsItsFrameIsRefusedAndKept) {
+  fs::create_directories(out());
+  const fs::path tile = fs::path(out()) / "t.tile-0-of-1.exr";
+  writeCraftedTile(tile, 8, 8, 0, 0, 8, 8, 5, "t.tile-0-of-1.exr", "exr");
+  const Outcome o = runMerge({out()}, 20);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("which is not its own"), std::string::npos) << o.output;
+  EXPECT_TRUE(fs::is_regular_file(tile));
+}
+
+TEST_F(Hostile, TilesOfScenesNamedWithADotOrANewlineMerge) {
+  for (const std::string name : {".dot", "new\nline"}) {
+    SCOPED_TRACE(name);
+    const std::string s = write(name + ".lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
+    const std::string folder = (dir_ / ("out" + std::to_string(name.size()))).string();
+    ASSERT_EQ(runLray({s, folder, "-q", "--tile", "0/2"}, 20).status, 0);
+    ASSERT_EQ(runLray({s, folder, "-q", "--tile", "1/2"}, 20).status, 0);
+    const Outcome o = runMerge({folder}, 20);
+    EXPECT_EQ(o.status, 0) << o.output;
+    EXPECT_TRUE(fs::is_regular_file(fs::path(folder) / (name + ".png"))) << o.output;
+  }
 }
 
 } // namespace

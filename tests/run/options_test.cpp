@@ -1,4 +1,4 @@
-// Tests for src/app/options: the command line of README.md, "The `lray` command".
+// Tests for src/run/options: the command line of README.md, "The `lray` command".
 #include "run/options.h"
 #include "app/app.h"
 #include "render/backends.h"

@@ -86,7 +86,8 @@ Scene spotScene() {
   return s;
 }
 
-Film render(const Scene &scene, const Accelerator &accel, RayCounts &counts) {
+// A template, so that the brute-force accelerator's own renderFrame is chosen for it.
+template <class Accel> Film render(const Scene &scene, const Accel &accel, RayCounts &counts) {
   ImageCache images(false);
   FrameSettings settings;
   settings.width = 64;

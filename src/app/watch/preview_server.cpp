@@ -4,11 +4,9 @@
 // beside the executable.
 #include "app/watch/preview_server.h"
 
+#include "util/module_loader.h"
 #include "util/scene_error.h"
 
-#include <dlfcn.h>
-
-#include <filesystem>
 #include <mutex>
 
 namespace lray {
@@ -16,23 +14,9 @@ namespace lray {
 namespace {
 
 const PreviewLibrary *load(std::string &tried) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path &candidate :
-       {fs::path(LRAY_PREVIEW_MODULE), ec ? fs::path() : exe.parent_path() / "liblray_preview.so"}) {
-    if (candidate.empty()) continue;
-    void *handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) {
-      const char *why = dlerror();
-      tried += "\n  " + candidate.string() + ": " + (why ? why : "cannot load");
-      continue;
-    }
-    auto entry = reinterpret_cast<const PreviewLibrary *(*)()>(dlsym(handle, "lray_preview_library"));
-    if (entry) return entry();
-    tried += "\n  " + candidate.string() + ": no lray_preview_library";
-  }
-  return nullptr;
+  void *entry = loadModuleEntry(LRAY_PREVIEW_MODULE, "liblray_preview.so", "lray_preview_library",
+                                tried);
+  return entry ? reinterpret_cast<const PreviewLibrary *(*)()>(entry)() : nullptr;
 }
 
 } // namespace

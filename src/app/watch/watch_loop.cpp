@@ -1,5 +1,6 @@
 // Pipeline: application (live preview). See watch_loop.h.
 #include "app/watch/watch_loop.h"
+#include "util/printable_text.h"
 
 #include "run/limit_options.h"
 #include "run/run_plan.h"
@@ -140,7 +141,7 @@ private:
     status_.message = message;
     status_.seconds = secondsSince(start_);
     state_.publish(status_);
-    if (!opt_.quiet) std::fprintf(stderr, "lray: error: %s\n", message.c_str());
+    if (!opt_.quiet) std::fprintf(stderr, "lray: error: %s\n", printableText(message).c_str());
   }
 
   void publish(const Film &film, int pass, const char *what, const FrameStats &stats) {

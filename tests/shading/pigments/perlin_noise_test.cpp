@@ -1,4 +1,4 @@
-// Tests for src/shading/perlin_noise: the properties of improved noise that
+// Tests for src/shading/pigments/perlin_noise: the properties of improved noise that
 // the marble and wood pigments rely on, and the turbulence octave sum.
 #include "shading/pigments/perlin_noise.h"
 

@@ -1,4 +1,4 @@
-// Tests for src/shading/texture_map: each map at hand-computed points.
+// Tests for src/shading/pigments/texture_map: each map at hand-computed points.
 #include "shading/pigments/texture_map.h"
 
 #include <gtest/gtest.h>

@@ -11,15 +11,6 @@ namespace lray::lua {
 
 namespace {
 
-/// Why an entity is not a solid, or null.
-const char *notSolid(const Shape &shape) {
-  if (const auto *c = std::get_if<Cylinder>(&shape); c && c->open)
-    return "an open Cylinder, which has no inside (CSG needs solids: set open = false)";
-  if (const auto *c = std::get_if<Cone>(&shape); c && c->open)
-    return "an open Cone, which has no inside (CSG needs solids: set open = false)";
-  return nullptr;
-}
-
 constexpr const char *kSolids =
     "a solid (Sphere, Cube, Cylinder, Cone, Torus, Plane, Union, Merge, Intersection or "
     "Difference)";
@@ -28,7 +19,9 @@ constexpr const char *kSolids =
 EntityRef solidRef(lua_State *L, int i, const std::string &op, lua_Integer entry) {
   const std::string where = op + ": entry " + std::to_string(entry);
   if (const EntityObj *e = toObject<EntityObj>(L, i)) {
-    if (const char *why = notSolid(e->shape)) throw ScriptError(where + " is " + why);
+    if (const char *attribute = hollowedBy(e->shape))
+      throw ScriptError(where + " is an " + attribute + " " + shapeName(e->shape) + ", which " +
+                        noInside(attribute));
     return {e, EntityRefKind::Shape};
   }
   if (const CsgObj *c = toObject<CsgObj>(L, i)) return {c, EntityRefKind::Csg};

@@ -13,6 +13,7 @@ namespace lray {
 struct Plane {
   static constexpr const char *kName = "Plane";
   static constexpr bool kBounded = false;
+  static constexpr bool kSolid = true; ///< has an inside: CSG takes it (shape_list.h)
 
   /// The whole space: a plane has no finite box (unless axis-aligned, which
   /// is not worth a tree entry of its own).

@@ -87,8 +87,7 @@ void getChildren(lua_State *L, CsgObj &c, int self) {
 
 template <CsgOp Op> void registerOp(Registry &reg) {
   auto b = reg.cls<CsgObj>(csgOpName(Op));
-  // The texture attribute comes first (user value 1), as on every entity.
-  b.attr("texture", &CsgObj::texture).attr("transform", &CsgObj::transform);
+  entityAttributes(b);
   if (b.userValueSlot() != CsgObj::kChildrenSlot)
     throw std::logic_error("CsgObj::kChildrenSlot is not the children's user value");
   b.property("children", &getChildren, nullptr).rawCtor(&csgNew<Op>);

@@ -2,6 +2,7 @@
 // "CSG"): Union, Merge, Intersection and Difference, each constructed from a
 // table that lists its solids, with attributes by name:
 //   Difference { Cube(), Sphere(Scale(0.6)), texture = t, transform = Rotate(y, 30) }
+#include "bindings/class_names.h"
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 
@@ -11,9 +12,11 @@ namespace lray::lua {
 
 namespace {
 
-constexpr const char *kSolids =
-    "a solid (Sphere, Cube, Cylinder, Cone, Torus, Plane, Union, Merge, Intersection or "
-    "Difference)";
+/// "a solid (Sphere, ... or Difference)": the shapes of a solid kind.
+const std::string &solidsExpected() {
+  static const std::string text = "a solid (" + classNames<Shape, SolidKind>() + ")";
+  return text;
+}
 
 /// The child at stack index i, entry `entry` of the constructor's table.
 EntityRef solidRef(lua_State *L, int i, const std::string &op, lua_Integer entry) {
@@ -26,8 +29,9 @@ EntityRef solidRef(lua_State *L, int i, const std::string &op, lua_Integer entry
   }
   if (const CsgObj *c = toObject<CsgObj>(L, i)) return {c, EntityRefKind::Csg};
   if (toObject<MeshObj>(L, i))
-    throw ScriptError(where + " is a Mesh, which CSG does not take: it expects " + kSolids);
-  throw ScriptError(where + " expects " + kSolids + ", got " + typeName(L, i));
+    throw ScriptError(where + " is a Mesh, which CSG does not take: it expects " +
+                      solidsExpected());
+  throw ScriptError(where + " expects " + solidsExpected() + ", got " + typeName(L, i));
 }
 
 template <CsgOp Op> int csgNew(lua_State *L) {

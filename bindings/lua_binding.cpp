@@ -157,11 +157,6 @@ void assignAttribute(lua_State *L, const ClassInfo &cls, int self, int key, int 
   assignMember(L, cls, m, type == LUA_TFUNCTION, self, key, value);
 }
 
-int nextTypeIndex() {
-  static std::atomic<int> next{0};
-  return next++;
-}
-
 // ---- BindingContext --------------------------------------------------------------
 
 bool BindingContext::sameSource(uint32_t id, const lua_Debug &ar) const {
@@ -209,29 +204,6 @@ SourceLocation BindingContext::resolve(ScriptLoc loc) const {
   return {sourceNames[loc.source], static_cast<int>(loc.line)};
 }
 
-const ClassInfo &BindingContext::primary(const void *tag) const {
-  auto it = primaryByType.find(tag);
-  assert(it != primaryByType.end() && "type has no registered class");
-  return *it->second;
-}
-
-std::string BindingContext::resolvePath(const std::string &file) const {
-  namespace fs = std::filesystem;
-  fs::path p(file);
-  if (p.is_relative()) p = fs::path(baseDir) / p;
-  return fs::absolute(p).lexically_normal().string();
-}
-
-bool BindingContext::pastMemoryLimit(lua_State *L) const {
-  if (!allocator || !allocator->overLimit()) return false;
-  lua_gc(L, LUA_GCCOLLECT);
-  return allocator->overLimit();
-}
-
-void BindingContext::checkMemory(lua_State *L, const char *what) const {
-  if (pastMemoryLimit(L)) throw ScriptError(std::string(what) + ": " + allocator->limitMessage());
-}
-
 namespace {
 
 void unlinkAndFree(BindingContext &ctx, HeapObject *o) {
@@ -261,36 +233,6 @@ void BindingContext::destroyLiveObjects() {
   // Never reads the userdata: they may have been freed.
   while (liveObjects_.next != &liveObjects_) unlinkAndFree(*this, liveObjects_.next);
   ++objectGeneration;
-}
-
-std::string BindingContext::resolveReadPath(const std::string &file, const char *what) const {
-  namespace fs = std::filesystem;
-  const std::string path = resolvePath(file);
-  std::error_code ec;
-  if (!readRoots.empty()) {
-    const fs::path real = fs::weakly_canonical(path, ec);
-    bool inside = false;
-    for (const fs::path &root : readRoots) {
-      auto [r, p] = std::mismatch(root.begin(), root.end(), real.begin(), real.end());
-      if (r == root.end()) {
-        inside = true;
-        break;
-      }
-    }
-    if (ec || !inside) {
-      std::string roots;
-      for (const fs::path &root : readRoots) roots += (roots.empty() ? "" : ", ") + root.string();
-      throw ScriptError(std::string(what) + ": '" + file + "' is outside the folders a scene may "
-                        "read (" + roots + "; allow another with --allow-read DIR)");
-    }
-  }
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
-    throw ScriptError(std::string(what) + ": '" + file + "' is not a regular file (" + path + ")");
-  if (std::find(filesRead.begin(), filesRead.end(), path) == filesRead.end()) {
-    filesRead.push_back(path);
-    if (readLog) readLog->push_back(path);
-  }
-  return path;
 }
 
 // ---- objects and messages --------------------------------------------------------

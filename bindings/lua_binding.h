@@ -16,7 +16,10 @@
 #pragma once
 
 #include "bindings/affine.h"
+#include "bindings/class_registry.h"
 #include "bindings/lua_allocator.h"
+#include "bindings/read_log.h"
+#include "bindings/sandbox_policy.h"
 #include "math/color.h"
 #include "math/transform.h"
 #include "math/vec3.h"
@@ -63,26 +66,10 @@ struct ScriptLoc {
   uint32_t line = 0;
 };
 
-struct ClassInfo;
-struct Member;
-
 /// Types registered as Lua classes with reference semantics declare
 /// `static constexpr const char *kLuaName` (used in "expects ..." messages).
 template <class T>
 concept LuaObject = requires { T::kLuaName; };
-
-/// A small dense number per C++ type (for O(1) per-state lookups).
-int nextTypeIndex();
-template <class T> int typeIndex() {
-  static const int index = nextTypeIndex();
-  return index;
-}
-
-/// One unique address per C++ type.
-template <class T> const void *typeTag() {
-  static const char tag = 0;
-  return &tag;
-}
 
 /// Every userdata made by this layer starts with this header; the magic
 /// number tells it apart from foreign userdata (io file handles). `object`
@@ -110,45 +97,13 @@ struct HeapObject {
 inline constexpr uint64_t kObjMagic = 0x4c52617955644f62ull;
 inline constexpr size_t kPayloadOffset = sizeof(ObjHeader);
 
-using Getter = void (*)(lua_State *, void *obj, int self, const Member &);
-using Setter = void (*)(lua_State *, void *obj, int self, int value, const Member &);
-
-/// An attribute: type-erased getter/setter plus the member pointer they use.
-struct Member {
-  std::string name;
-  const ClassInfo *owner = nullptr;
-  Getter get = nullptr;
-  Setter set = nullptr; ///< null: read-only
-  alignas(8) unsigned char pointer[16]{}; ///< member pointer or accessor functions
-  alignas(8) unsigned char extra[16]{};   ///< validator function, if any
-  int slot = 0;                           ///< user value slot of an object reference
-};
-
-/// A registered Lua class. Several classes may share one C++ type (all
-/// pigments are PigmentObj); the first registered is the type's default
-/// class, used when a reference attribute is read before it was assigned.
-struct ClassInfo {
-  std::string name;
-  const void *typeTag = nullptr;
-  size_t size = 0;
-  int userValues = 0;
-  int metatableRef = LUA_NOREF;
-  int membersRef = LUA_NOREF;
-  void (*construct)(void *payload) = nullptr; ///< placement-new + class defaults
-  void (*destroy)(void *payload) = nullptr;   ///< null when trivially destructible
-  /// Class defaults (e.g. Wood's frequency): `applyDefaults` calls the
-  /// typed function stored in `defaultsFn`.
-  void (*applyDefaults)(const ClassInfo &, void *payload) = nullptr;
-  alignas(8) unsigned char defaultsFn[sizeof(void (*)())]{};
-  std::deque<Member> members;
-  std::vector<std::string> memberNames; ///< attributes and methods, for "did you mean"
-};
-
 /// Per-lua_State data, reachable from any C function through the state's
-/// extra space.
-class BindingContext {
+/// extra space: the classes (ClassRegistry), what the script may do
+/// (SandboxPolicy), the files it read (ReadLog), where its chunks come from
+/// and the C++ objects it holds.
+class BindingContext : public ClassRegistry, public SandboxPolicy {
 public:
-  explicit BindingContext(std::string baseDirectory) : baseDir(std::move(baseDirectory)) {
+  explicit BindingContext(std::string baseDirectory) : SandboxPolicy(std::move(baseDirectory)) {
     sourceNames.emplace_back();
     sourceKeys.push_back({nullptr, 0, {}, {}});
   }
@@ -165,29 +120,16 @@ public:
   /// Location of the innermost user-script frame (prelude frames skipped).
   ScriptLoc currentLocation(lua_State *L);
   SourceLocation resolve(ScriptLoc loc) const;
-  /// The default class of C++ type `tag` (first registered); asserts it exists.
-  const ClassInfo &primary(const void *tag) const;
-  /// Same, by typeIndex<T>() (the hot path: every Vector or Transform result).
-  template <class T> const ClassInfo &primary() {
-    size_t i = static_cast<size_t>(typeIndex<T>());
-    if (i >= primaryByIndex.size()) primaryByIndex.resize(i + 1, nullptr);
-    if (!primaryByIndex[i]) primaryByIndex[i] = &primary(typeTag<T>());
-    return *primaryByIndex[i];
+  /// SandboxPolicy::readablePath, and the path noted in the read log: for
+  /// every file the script reads (dofile, io.open, mesh_from_obj, images).
+  std::string resolveReadPath(const std::string &file, const char *what) {
+    std::string path = readablePath(file, what);
+    readLog.note(path);
+    return path;
   }
-  /// Path of `file` resolved against the script folder.
-  std::string resolvePath(const std::string &file) const;
-  /// resolvePath for a file the script reads: throws ScriptError, naming
-  /// `what` and the path, when it lies outside every folder of readRoots
-  /// (after symbolic links are followed), or exists and is not a regular
-  /// file.
-  std::string resolveReadPath(const std::string &file, const char *what) const;
 
-  /// The folders a sandboxed script may read below (canonical): the scene's
-  /// folder and those of --allow-read. Empty: anywhere (--unsafe).
-  std::vector<std::filesystem::path> readRoots;
-  /// Every path resolveReadPath gave out (scripts, OBJ files, images,
-  /// io.open), in order, once each: what `lray --watch` watches.
-  mutable std::vector<std::string> filesRead;
+  /// Every path resolveReadPath gave out: what `lray --watch` watches.
+  ReadLog readLog;
   /// The C++ objects of classes with a destructor live on the C++ heap, in
   /// this list, not in their userdata: Lua 5.4 can free a finalizable
   /// userdata without calling its finalizer (after an emergency collection
@@ -203,26 +145,8 @@ public:
   /// already did.
   void destroyObjectOf(const ObjHeader *h);
   uint64_t objectGeneration = 0;
-  std::shared_ptr<std::vector<std::string>> readLog; ///< ScriptOptions::readLog
 
-  /// The state's allocator (set by ScriptState): its limit and the pool of
-  /// memory held outside the Lua heap (external_memory.h).
-  LuaAllocator *allocator = nullptr;
-  /// --max-file-size: the largest OBJ file mesh_from_obj reads.
-  uint64_t maxFileBytes = uint64_t{1} << 30;
-  /// Throws ScriptError naming `what` when the script's memory, Lua heap and
-  /// external together, is past --script-memory even after a full garbage
-  /// collection (what Lua does before it refuses an allocation). Only from
-  /// binding code, whose objects in use are on the Lua stack.
-  void checkMemory(lua_State *L, const char *what) const;
-  /// Whether the script's memory is past the limit after a full collection.
-  bool pastMemoryLimit(lua_State *L) const;
-
-  std::string baseDir;
   std::string preludeSource = "=prelude"; ///< chunk name of the prelude
-  std::vector<std::unique_ptr<ClassInfo>> classes;
-  std::unordered_map<const void *, const ClassInfo *> primaryByType;
-  std::vector<const ClassInfo *> primaryByIndex; ///< cache of primaryByType by typeIndex
   std::vector<std::string> sourceNames; ///< [0] = unknown
   /// How a chunk is recognised: the address of its source text, which Lua
   /// keeps while the chunk lives, checked against its length and first
@@ -238,9 +162,6 @@ public:
   /// Distinct chunks named at most (a script can load chunks without end);
   /// later ones share one name.
   static constexpr size_t kMaxSources = 4096;
-  std::deque<std::string> functionNames; ///< stable storage for error contexts
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-  double timeoutSeconds = 0;
   /// Where the script was when the hook last ran (every few thousand
   /// instructions): the place a memory error, which Lua reports without
   /// one, is blamed on.

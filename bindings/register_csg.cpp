@@ -2,6 +2,7 @@
 // "CSG"): Union, Merge, Intersection and Difference, each constructed from a
 // table that lists its solids, with attributes by name:
 //   Difference { Cube(), Sphere(Scale(0.6)), texture = t, transform = Rotate(y, 30) }
+#include "bindings/class_names.h"
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 
@@ -11,30 +12,26 @@ namespace lray::lua {
 
 namespace {
 
-/// Why an entity is not a solid, or null.
-const char *notSolid(const Shape &shape) {
-  if (const auto *c = std::get_if<Cylinder>(&shape); c && c->open)
-    return "an open Cylinder, which has no inside (CSG needs solids: set open = false)";
-  if (const auto *c = std::get_if<Cone>(&shape); c && c->open)
-    return "an open Cone, which has no inside (CSG needs solids: set open = false)";
-  return nullptr;
+/// "a solid (Sphere, ... or Difference)": the shapes of a solid kind.
+const std::string &solidsExpected() {
+  static const std::string text = "a solid (" + classNames<Shape, SolidKind>() + ")";
+  return text;
 }
-
-constexpr const char *kSolids =
-    "a solid (Sphere, Cube, Cylinder, Cone, Torus, Plane, Union, Merge, Intersection or "
-    "Difference)";
 
 /// The child at stack index i, entry `entry` of the constructor's table.
 EntityRef solidRef(lua_State *L, int i, const std::string &op, lua_Integer entry) {
   const std::string where = op + ": entry " + std::to_string(entry);
   if (const EntityObj *e = toObject<EntityObj>(L, i)) {
-    if (const char *why = notSolid(e->shape)) throw ScriptError(where + " is " + why);
+    if (const char *attribute = hollowedBy(e->shape))
+      throw ScriptError(where + " is an " + attribute + " " + shapeName(e->shape) + ", which " +
+                        noInside(attribute));
     return {e, EntityRefKind::Shape};
   }
   if (const CsgObj *c = toObject<CsgObj>(L, i)) return {c, EntityRefKind::Csg};
   if (toObject<MeshObj>(L, i))
-    throw ScriptError(where + " is a Mesh, which CSG does not take: it expects " + kSolids);
-  throw ScriptError(where + " expects " + kSolids + ", got " + typeName(L, i));
+    throw ScriptError(where + " is a Mesh, which CSG does not take: it expects " +
+                      solidsExpected());
+  throw ScriptError(where + " expects " + solidsExpected() + ", got " + typeName(L, i));
 }
 
 template <CsgOp Op> int csgNew(lua_State *L) {
@@ -94,8 +91,7 @@ void getChildren(lua_State *L, CsgObj &c, int self) {
 
 template <CsgOp Op> void registerOp(Registry &reg) {
   auto b = reg.cls<CsgObj>(csgOpName(Op));
-  // The texture attribute comes first (user value 1), as on every entity.
-  b.attr("texture", &CsgObj::texture).attr("transform", &CsgObj::transform);
+  entityAttributes(b);
   if (b.userValueSlot() != CsgObj::kChildrenSlot)
     throw std::logic_error("CsgObj::kChildrenSlot is not the children's user value");
   b.property("children", &getChildren, nullptr).rawCtor(&csgNew<Op>);

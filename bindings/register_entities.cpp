@@ -284,51 +284,29 @@ void shapeCtor(EntityObj &e, std::optional<Affine> t) {
   if (t) e.transform = *t;
 }
 
+/// Shape class S (its name, defaults and constructor) with the attributes
+/// every entity has.
+template <class S> ClassBuilder<EntityObj> shapeClass(Registry &reg) {
+  return entityAttributes(
+      reg.cls<EntityObj>(S::kName).defaults(&shapeDefaults<S>).ctor(&shapeCtor));
+}
+
 } // namespace
 
 void registerEntityClasses(Registry &reg) {
-  // The texture attribute comes first on every entity: user value slot 1.
-  reg.cls<EntityObj>("Sphere")
-      .defaults(&shapeDefaults<Sphere>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform);
-  reg.cls<EntityObj>("Cube")
-      .defaults(&shapeDefaults<Cube>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform);
-  reg.cls<EntityObj>("Cylinder")
-      .defaults(&shapeDefaults<Cylinder>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform)
-      .partAttr<&params<Cylinder>>("open", &Cylinder::open);
-  reg.cls<EntityObj>("Cone")
-      .defaults(&shapeDefaults<Cone>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform)
-      .partAttr<&params<Cone>>("open", &Cone::open);
-  reg.cls<EntityObj>("Plane")
-      .defaults(&shapeDefaults<Plane>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform);
-  reg.cls<EntityObj>("Torus")
-      .defaults(&shapeDefaults<Torus>)
-      .ctor(&shapeCtor)
-      .attr("texture", &EntityObj::texture)
-      .attr("transform", &EntityObj::transform)
+  shapeClass<Sphere>(reg);
+  shapeClass<Cube>(reg);
+  shapeClass<Cylinder>(reg).partAttr<&params<Cylinder>>("open", &Cylinder::open);
+  shapeClass<Cone>(reg).partAttr<&params<Cone>>("open", &Cone::open);
+  shapeClass<Plane>(reg);
+  shapeClass<Torus>(reg)
       .partAttr<&params<Torus>>("major", &Torus::major, positiveNumber)
       .partAttr<&params<Torus>>("minor", &Torus::minor, positiveNumber);
 
-  reg.cls<MeshObj>("Mesh")
-      .ctor(+[](MeshObj &m, std::optional<Affine> t) {
-        if (t) m.transform = *t;
-      })
-      .attr("texture", &MeshObj::texture)
-      .attr("transform", &MeshObj::transform)
+  entityAttributes(reg.cls<MeshObj>("Mesh")
+                       .ctor(+[](MeshObj &m, std::optional<Affine> t) {
+                         if (t) m.transform = *t;
+                       }))
       .attr("smooth", &MeshObj::smooth)
       .property("vertices", &getVertices, &setVertices)
       .property("normals", &getNormals, &setNormals)

@@ -1,5 +1,6 @@
 // Pipeline: script -> scene description. SceneInfo, Scene, Perspective and
 // Light (lua/README.md, "Scene and camera", "Lights").
+#include "bindings/class_names.h"
 #include "bindings/register_classes.h"
 #include "bindings/scene_objects.h"
 #include "bindings/validators.h"
@@ -43,27 +44,6 @@ void keepAlive(lua_State *L, int scene, int value) {
   lua_settop(L, chunks - 1);
 }
 
-/// "A, B or C": the Lua class names of the alternatives of variant V, so a
-/// message lists every class without a list of its own to keep up.
-template <class V, size_t... I> std::string classNames(std::index_sequence<I...>) {
-  const char *names[] = {std::variant_alternative_t<I, V>::kName...};
-  std::string out;
-  for (size_t i = 0; i < sizeof...(I); ++i)
-    out += (i == 0 ? "" : i + 1 == sizeof...(I) ? " or " : ", ") + std::string(names[i]);
-  return out;
-}
-template <class V> std::string classNames() {
-  return classNames<V>(std::make_index_sequence<std::variant_size_v<V>>{});
-}
-
-/// The shape classes, with the CSG shape's four operator classes.
-std::string entityClassNames() {
-  std::string shapes = classNames<Shape>();
-  const std::string csg = std::string(" or ") + Csg::kName;
-  if (shapes.size() > csg.size() && shapes.ends_with(csg)) shapes.resize(shapes.size() - csg.size());
-  return shapes + ", Union, Merge, Intersection or Difference";
-}
-
 void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int argument,
                lua_Integer listIndex) {
   if (const EntityObj *e = toObject<EntityObj>(L, value)) {
@@ -75,7 +55,7 @@ void addEntity(lua_State *L, SceneObj &scene, int value, const char *method, int
   } else {
     std::string where = listIndex > 0 ? ", entry " + std::to_string(listIndex) : std::string();
     throw ScriptError(std::string("Scene:") + method + ": argument " + std::to_string(argument) +
-                      where + " expects an entity (" + entityClassNames() + "), got " +
+                      where + " expects an entity (" + classNames<Shape>() + "), got " +
                       typeName(L, value));
   }
   keepAlive(L, 1, value);

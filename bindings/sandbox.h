@@ -11,7 +11,7 @@ namespace lray::lua {
 
 /// Opens the libraries into L. Relative paths given to io.open, io.lines,
 /// loadfile and dofile resolve against the script's folder, and reads are
-/// confined to BindingContext::readRoots (set before this is called).
+/// confined to SandboxPolicy::readRoots (set before this is called).
 void openLibraries(lua_State *L, bool unsafe);
 
 } // namespace lray::lua

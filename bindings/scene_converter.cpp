@@ -105,8 +105,9 @@ private:
   Entity csgLeaf(const EntityObj &e, const Transform &parentWorld, const Inherited &inherited,
                  bool &inheritsTexture) {
     Entity out = shape(e);
-    if (const char *why = notSolidShape(out.shape))
-      throw SceneError(out.loc, std::string(shapeName(out.shape)) + " in a CSG: " + why);
+    if (const char *attribute = hollowedBy(out.shape))
+      throw SceneError(out.loc, std::string(shapeName(out.shape)) + " in a CSG: an " +
+                                    attribute + " one " + noInside(attribute));
     out.worldFromObject = place(parentWorld, e.transform, out.loc, shapeName(out.shape));
     inheritsTexture = !e.texture && inherited.set;
     if (inheritsTexture) out.texture = texture(inherited.texture);
@@ -206,14 +207,6 @@ private:
     if (depth > kMaxCsgNesting)
       throw SceneError(loc, std::string(name) + ": CSG nodes are nested more than " +
                                 std::to_string(kMaxCsgNesting) + " deep");
-  }
-
-  static const char *notSolidShape(const Shape &shape) {
-    if (const auto *c = std::get_if<Cylinder>(&shape); c && c->open)
-      return "an open one has no inside (CSG needs solids: set open = false)";
-    if (const auto *c = std::get_if<Cone>(&shape); c && c->open)
-      return "an open one has no inside (CSG needs solids: set open = false)";
-    return nullptr;
   }
 
   Entity mesh(const MeshObj &m) {

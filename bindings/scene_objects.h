@@ -130,6 +130,12 @@ struct CsgObj {
   std::vector<EntityRef> children; ///< shapes and CSG nodes
 };
 
+/// The end of the message for a shape that an attribute left without an
+/// inside (hollowedBy in geometry/shapes/shape_list.h), such as "open".
+inline std::string noInside(const char *attribute) {
+  return std::string("has no inside (CSG needs solids: set ") + attribute + " = false)";
+}
+
 struct SceneObj {
   static constexpr const char *kLuaName = "a Scene";
   Color background{0, 0, 0};

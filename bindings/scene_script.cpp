@@ -84,6 +84,14 @@ SceneScript SceneScript::fromString(const std::string &source, const std::string
 SceneScript::SceneScript(const std::string &source, const std::string &chunkName,
                          const std::string &baseDir, ScriptOptions options, bool)
     : impl_(std::make_unique<Impl>(baseDir, options)) {
+  try {
+    load(source, chunkName);
+  } catch (const SceneError &e) {
+    throw ScriptLoadError(e.what(), filesRead());
+  }
+}
+
+void SceneScript::load(const std::string &source, const std::string &chunkName) {
   impl_->displayName = chunkName.substr(1);
   lua::ScriptState &state = impl_->state;
   lua_State *L = state.state();
@@ -101,7 +109,7 @@ SceneScript::SceneScript(const std::string &source, const std::string &chunkName
     throw SceneError(where, "scene_info must be a SceneInfo, got " + given);
   }
   lua_pop(L, 1);
-  validateSceneInfo(impl_->info, options.maxPixels, where.str());
+  validateSceneInfo(impl_->info, impl_->options.maxPixels, where.str());
 
   pushGlobal(state, "scene");
   bool isFunction = lua_isfunction(L, -1);
@@ -119,7 +127,9 @@ const SceneInfo &SceneScript::info() const { return impl_->info; }
 
 const std::vector<std::string> &SceneScript::warnings() const { return impl_->warnings; }
 
-std::vector<std::string> SceneScript::filesRead() const { return impl_->state.context().filesRead; }
+std::vector<std::string> SceneScript::filesRead() const {
+  return impl_->state.context().readLog.files();
+}
 
 Scene SceneScript::buildFrame(double clock) {
   lua::ScriptState &state = impl_->state;

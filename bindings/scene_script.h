@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lray {
@@ -28,18 +29,30 @@ struct ScriptOptions {
   /// --max-file-size: the largest scene or OBJ file read (text formats
   /// are read whole before they are parsed).
   uint64_t maxFileBytes = uint64_t{1} << 30;
-  /// If set, also gets every file the script reads (as filesRead()), kept
-  /// when loading fails: `lray --watch` watches an included file that has
-  /// an error.
+  /// If set, the list the script's read log keeps its files in (the one
+  /// list filesRead() copies, shared, not a second copy): for a caller that
+  /// wants it past the script's end. ScriptLoadError also carries it.
   std::shared_ptr<std::vector<std::string>> readLog;
 };
 
-/// A loaded scene script (lua/README.md, "The scene file"). Not thread-safe; used by one thread.
+/// A scene script that failed to load: the SceneError's message, and the
+/// files it read before it failed (SceneScript::filesRead()), so that
+/// `lray --watch` watches an included file that has an error.
+class ScriptLoadError : public SceneError {
+public:
+  ScriptLoadError(const std::string &message, std::vector<std::string> files)
+      : SceneError(message), filesRead(std::move(files)) {}
+  std::vector<std::string> filesRead;
+};
+
+/// A loaded scene script (lua/README.md, "The scene file"). Not thread-safe; used by one
+/// thread.
 class SceneScript {
 public:
   /// Loads and runs the scene file; relative paths inside the script (images,
   /// OBJ, io.open) resolve against the script's folder. Throws SceneError with
-  /// "file:line: message" (plus a Lua traceback for runtime errors).
+  /// "file:line: message" (plus a Lua traceback for runtime errors): a
+  /// ScriptLoadError once the script has started to run.
   explicit SceneScript(const std::string &path, ScriptOptions options = {});
   /// Same from source text; `chunkName` names it in messages, `baseDir`
   /// resolves relative paths (for tests).
@@ -72,6 +85,8 @@ public:
 private:
   SceneScript(const std::string &source, const std::string &chunkName, const std::string &baseDir,
               ScriptOptions options, bool);
+  /// Runs the script and reads scene_info and scene (the constructor's work).
+  void load(const std::string &source, const std::string &chunkName);
   std::unique_ptr<Impl> impl_;
 };
 

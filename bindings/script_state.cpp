@@ -67,7 +67,7 @@ ScriptState::ScriptState(const std::string &baseDir, const ScriptOptions &option
   ctx_->timeoutSeconds = options.timeoutSeconds;
   ctx_->allocator = allocator_.get();
   ctx_->maxFileBytes = options.maxFileBytes;
-  ctx_->readLog = options.readLog;
+  ctx_->readLog = ReadLog(options.readLog);
   // Scene scripts make many short-lived values (Vector, Transform):
   // generational collection frees them young and keeps the peak low.
   lua_gc(L_, LUA_GCGEN, 0, 0);

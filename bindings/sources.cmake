@@ -3,6 +3,8 @@
 list(APPEND LRAY_CORE_SOURCES
   bindings/lua_allocator.cpp
   bindings/lua_binding.cpp
+  bindings/class_registry.cpp
+  bindings/sandbox_policy.cpp
   bindings/register_values.cpp
   bindings/register_textures.cpp
   bindings/register_entities.cpp

@@ -89,9 +89,8 @@ ShadowShafts::ShadowShafts(const Scene &scene)
       unboundedEntity_.push_back(index); // an unbounded CSG: a candidate for every shaft
     } else {
       planeEntity_.push_back(index);
-      // A Plane: y = 0 in object space.
-      const Vec3 n = normalize(e.worldFromObject.applyNormal({0, 1, 0}));
-      planes_.push_back({n, dot(n, e.worldFromObject.applyPoint({0, 0, 0})),
+      const Plane::WorldPlane plane = Plane::inWorld(e.worldFromObject);
+      planes_.push_back({plane.normal, plane.offset,
                          e.worldFromObject.translationNorm() +
                              e.worldFromObject.inverseTranslationNorm()});
     }

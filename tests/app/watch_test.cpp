@@ -99,6 +99,19 @@ TEST_F(WatchTest, FilesReadBeforeALoadFailsAreReported) {
   EXPECT_EQ(fs::path(options.readLog->front()).filename(), "part.lua");
 }
 
+TEST_F(WatchTest, ALoadErrorCarriesTheFilesRead) {
+  // What the watch loop watches after a failed load, with no list of its own.
+  write("part.lua", "this is not Lua\n");
+  write("scene.lua", "dofile('part.lua')\nfunction scene() return Scene() end\n");
+  try {
+    SceneScript script((dir_ / "scene.lua").string());
+    FAIL() << "the script loaded";
+  } catch (const ScriptLoadError &e) {
+    ASSERT_EQ(e.filesRead.size(), 1u);
+    EXPECT_EQ(fs::path(e.filesRead.front()).filename(), "part.lua");
+  }
+}
+
 TEST(PreviewStateTest, TextThatIsNotUtf8IsShownNotRefused) {
   PreviewState state;
   PreviewStatus st;

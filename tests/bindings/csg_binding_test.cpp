@@ -142,21 +142,21 @@ TEST_F(CsgBindingTest, ErrorsNameTheLineAndTheEntry) {
             "test.lua:1: Merge: expects one table listing its solids, as in Merge { a, b, "
             "texture = t }, got 2 arguments");
   EXPECT_EQ(runLua("u = Difference { Sphere(), 3 }"),
-            "test.lua:1: Difference: entry 2 expects a solid (Sphere, Cube, Cylinder, Cone, "
-            "Torus, Plane, Union, Merge, Intersection or Difference), got number");
+            "test.lua:1: Difference: entry 2 expects a solid (Sphere, Cylinder, Cone, Cube, "
+            "Plane, Torus, Union, Merge, Intersection or Difference), got number");
   EXPECT_EQ(runLua("\nu = Intersection { Sphere(), Light() }"),
-            "test.lua:2: Intersection: entry 2 expects a solid (Sphere, Cube, Cylinder, Cone, "
-            "Torus, Plane, Union, Merge, Intersection or Difference), got Light");
+            "test.lua:2: Intersection: entry 2 expects a solid (Sphere, Cylinder, Cone, Cube, "
+            "Plane, Torus, Union, Merge, Intersection or Difference), got Light");
   EXPECT_EQ(runLua("u = Union { Mesh() }"),
             "test.lua:1: Union: entry 1 is a Mesh, which CSG does not take: it expects a solid "
-            "(Sphere, Cube, Cylinder, Cone, Torus, Plane, Union, Merge, Intersection or "
+            "(Sphere, Cylinder, Cone, Cube, Plane, Torus, Union, Merge, Intersection or "
             "Difference)");
   EXPECT_EQ(runLua("u = Merge { Cylinder() { open = true } }"),
             "test.lua:1: Merge: entry 1 is an open Cylinder, which has no inside (CSG needs "
             "solids: set open = false)");
   EXPECT_EQ(runLua("u = Merge { Sphere(), nil, Cube() }"),
-            "test.lua:1: Merge: entry 2 expects a solid (Sphere, Cube, Cylinder, Cone, Torus, "
-            "Plane, Union, Merge, Intersection or Difference), got nil");
+            "test.lua:1: Merge: entry 2 expects a solid (Sphere, Cylinder, Cone, Cube, Plane, "
+            "Torus, Union, Merge, Intersection or Difference), got nil");
   EXPECT_EQ(runLua("u = Merge { Sphere(), [7] = Cube() }"),
             "test.lua:1: Merge: its table holds solids listed from 1 on and attributes by "
             "name; key 7 is neither (a nil in the list of solids?)");

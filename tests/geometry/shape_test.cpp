@@ -440,5 +440,17 @@ TEST(Torus, SpindleTorusHasOneSurface) {
   EXPECT_NEAR(h.t, 3.5, 1e-14);
 }
 
+TEST(Plane, InWorldIsTheObjectPlanePlaced) {
+  const Transform t = Transform::translate({1, 2, 3}) * Transform::rotate({1, 0, 0}, 30) *
+                      Transform::scale(2, 3, 4);
+  const Plane::WorldPlane p = Plane::inWorld(t);
+  EXPECT_NEAR(length(p.normal), 1, 1e-12);
+  // Points of the object plane lie on it; the solid side (y < 0) is below.
+  for (const Vec3 &q : {Vec3(0, 0, 0), Vec3(5, 0, -2), Vec3(-1, 0, 7)})
+    EXPECT_NEAR(dot(p.normal, t.applyPoint(q)), p.offset, 1e-12);
+  EXPECT_LT(dot(p.normal, t.applyPoint({0.5, -1, 0.25})), p.offset);
+  EXPECT_GT(dot(p.normal, t.applyPoint({0.5, 1, 0.25})), p.offset);
+}
+
 } // namespace
 } // namespace lray

@@ -58,10 +58,9 @@ public:
     status_.scene = opt_.scenePath;
     status_.backend = backend_;
     for (const BackendEntry &b : backends()) status_.backends.push_back(b.name);
-    ScriptOptions scriptOptions = scriptOptionsOf(opt_);
-    scriptOptions.readLog = std::make_shared<std::vector<std::string>>();
+    std::optional<SceneScript> loaded;
     try {
-      SceneScript script(opt_.scenePath, scriptOptions);
+      SceneScript &script = loaded.emplace(opt_.scenePath, scriptOptionsOf(opt_));
       Options fixed = opt_;
       fixed.firstFrame.reset();
       fixed.lastFrame.reset();
@@ -125,14 +124,17 @@ public:
       stats.sampling = film.report;
       if (!film.report.cancelled) publish(film, film.report.passes, "done", stats);
       return script.filesRead();
+    } catch (const ScriptLoadError &e) {
+      // The files read before the error: an included file that fails to
+      // load is watched, so fixing it renders again.
+      fail(e.what());
+      return e.filesRead;
     } catch (const std::exception &e) {
       fail(e.what());
     } catch (...) {
       fail("the render failed");
     }
-    // The files read before the error: an included file that fails to load
-    // is watched, so fixing it renders again.
-    return *scriptOptions.readLog;
+    return loaded ? loaded->filesRead() : std::vector<std::string>{};
   }
 
 private:

@@ -13,8 +13,12 @@ namespace lray {
 struct Cone {
   static constexpr const char *kName = "Cone";
   static constexpr bool kBounded = true;
+  static constexpr bool kSolid = true; ///< while closed: see hollowedBy()
 
   bool open = false; ///< no base cap (ext)
+  /// The attribute that leaves this one without an inside while it is set
+  /// (open: no base cap), else null (shape_list.h, hollowedBy).
+  const char *hollowedBy() const { return open ? "open" : nullptr; }
 
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;
   double originShift(const Ray &ray) const {

@@ -24,6 +24,7 @@ struct CsgTree;
 
 struct Csg {
   static constexpr const char *kName = "CSG";
+  static constexpr bool kSolid = true; ///< a CSG node of solids is one (shape_list.h)
   std::shared_ptr<const CsgTree> tree; ///< null: nothing to hit
 };
 

@@ -12,6 +12,7 @@ namespace lray {
 struct Cube {
   static constexpr const char *kName = "Cube";
   static constexpr bool kBounded = true;
+  static constexpr bool kSolid = true; ///< has an inside: CSG takes it (shape_list.h)
 
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;
   double originShift(const Ray &ray) const { return closestApproachShift(ray, {}, kFarOrigin); }

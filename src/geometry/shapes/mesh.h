@@ -8,6 +8,8 @@ namespace lray {
 
 struct Mesh {
   static constexpr const char *kName = "Mesh";
+  /// Its triangles need not close: no inside, so CSG does not take it.
+  static constexpr bool kSolid = false;
 };
 
 } // namespace lray

@@ -13,6 +13,24 @@ namespace lray {
 struct Plane {
   static constexpr const char *kName = "Plane";
   static constexpr bool kBounded = false;
+  static constexpr bool kSolid = true; ///< has an inside: CSG takes it (shape_list.h)
+
+  /// The plane in object space, for code that reasons about it whole
+  /// (shading/shadow_shaft.cpp): its normal, out of the solid side, and a
+  /// point on it.
+  static constexpr Vec3 kObjectNormal{0, 1, 0};
+  static constexpr Vec3 kObjectPoint{0, 0, 0};
+  /// The plane placed by `worldFromObject`: the points p with
+  /// dot(normal, p) = offset, normal of unit length and out of the solid
+  /// side.
+  struct WorldPlane {
+    Vec3 normal;
+    double offset;
+  };
+  static WorldPlane inWorld(const Transform &worldFromObject) {
+    const Vec3 n = normalize(worldFromObject.applyNormal(kObjectNormal));
+    return {n, dot(n, worldFromObject.applyPoint(kObjectPoint))};
+  }
 
   /// The whole space: a plane has no finite box (unless axis-aligned, which
   /// is not worth a tree entry of its own).

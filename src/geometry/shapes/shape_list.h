@@ -61,4 +61,25 @@ template <class S> constexpr bool kAnalyticShape = !std::is_same_v<S, Mesh>;
 template <class S>
 constexpr bool kPrimitiveShape = kAnalyticShape<S> && !std::is_same_v<S, Csg>;
 
+/// The solids, the only shapes CSG takes (lua/README.md, "CSG"), are those
+/// with an inside: S::kSolid says whether shapes of kind S have one. A kind
+/// with an attribute that can take its inside away (an open Cylinder) also
+/// has `const char *hollowedBy() const`: that attribute while it is set.
+template <class S> constexpr bool kSolidShape = S::kSolid;
+
+/// The attribute that leaves `shape`, of a solid kind, without an inside
+/// ("open"), or null when it is a solid.
+inline const char *hollowedBy(const Shape &shape) {
+  return std::visit(
+      [](const auto &s) -> const char * {
+        using S = std::decay_t<decltype(s)>;
+        static_assert(kSolidShape<S> || !requires { s.hollowedBy(); });
+        if constexpr (requires { s.hollowedBy(); })
+          return s.hollowedBy();
+        else
+          return nullptr;
+      },
+      shape);
+}
+
 } // namespace lray

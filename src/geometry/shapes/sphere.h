@@ -12,6 +12,7 @@ namespace lray {
 struct Sphere {
   static constexpr const char *kName = "Sphere";
   static constexpr bool kBounded = true;
+  static constexpr bool kSolid = true; ///< has an inside: CSG takes it (shape_list.h)
 
   /// Tight world box of the sphere placed by `worldFromObject` (unpadded).
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;

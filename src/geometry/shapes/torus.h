@@ -14,6 +14,7 @@ namespace lray {
 struct Torus {
   static constexpr const char *kName = "Torus";
   static constexpr bool kBounded = true;
+  static constexpr bool kSolid = true; ///< has an inside: CSG takes it (shape_list.h)
 
   double major = 1;    ///< radius of the centre circle (object units)
   double minor = 0.25; ///< radius of the tube

@@ -163,7 +163,8 @@ bool BindingContext::sameSource(uint32_t id, const lua_Debug &ar) const {
   const SourceKey &key = sourceKeys[id];
   return key.source == ar.source && key.length == ar.srclen &&
          std::memcmp(key.head.data(), ar.source, key.head.size()) == 0 &&
-         std::memcmp(key.tail.data(), ar.source + ar.srclen - key.tail.size(), key.tail.size()) == 0;
+         std::memcmp(key.tail.data(), ar.source + ar.srclen - key.tail.size(), key.tail.size()) ==
+             0;
 }
 
 ScriptLoc BindingContext::currentLocation(lua_State *L) {

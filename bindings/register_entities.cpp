@@ -193,8 +193,9 @@ int meshCopy(lua_State *L) {
 /// Charges the mesh's arrays to the script's memory and checks the limit.
 void chargeMesh(lua_State *L, MeshObj &m, const char *what) {
   const MeshSource &s = m.geometry->source;
-  const size_t bytes = s.positions.capacity() * sizeof(Vec3f) + s.normals.capacity() * sizeof(Vec3f) +
-                       s.uvs.capacity() * sizeof(Vec2f) + s.corners.capacity() * sizeof(MeshCorner) +
+  const size_t bytes = s.positions.capacity() * sizeof(Vec3f) +
+                       s.normals.capacity() * sizeof(Vec3f) + s.uvs.capacity() * sizeof(Vec2f) +
+                       s.corners.capacity() * sizeof(MeshCorner) +
                        s.faceSizes.capacity() * sizeof(uint32_t);
   BindingContext &ctx = BindingContext::of(L);
   // The place a memory error soon after is blamed on (Lua gives it none).

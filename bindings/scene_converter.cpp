@@ -136,7 +136,8 @@ private:
         continue;
       }
       bool inherits = false;
-      Entity leaf = csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
+      Entity leaf =
+          csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
       if (!inherits) {
         out_.entities.push_back(std::move(leaf));
         continue;
@@ -156,7 +157,8 @@ private:
     tree.leaves[i].textureSpace = inherited.space;
   }
 
-  Entity csgEntityOf(std::shared_ptr<CsgTree> tree, const Transform &world, const SourceLocation &loc) {
+  Entity csgEntityOf(std::shared_ptr<CsgTree> tree, const Transform &world,
+                     const SourceLocation &loc) {
     Entity out;
     out.loc = loc;
     out.worldFromObject = world;
@@ -197,7 +199,8 @@ private:
         continue;
       }
       bool inherits = false;
-      Entity leaf = csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
+      Entity leaf =
+          csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
       if (inherits) addLeaf(tree, std::move(leaf), node, inherited);
       else tree.addLeaf(std::move(leaf), node);
     }

@@ -42,7 +42,8 @@ void ScriptWatchdog::watch() {
     }
     const uint64_t generation = generation_;
     const auto limit = deadline_ + kGrace;
-    if (wake_.wait_until(lock, limit, [&] { return stopping_ || !armed_ || generation_ != generation; }))
+    if (wake_.wait_until(lock, limit,
+                         [&] { return stopping_ || !armed_ || generation_ != generation; }))
       continue;
     // Still in the same call, past its deadline and the grace period.
     std::fprintf(stderr, "lray: error: %s\n", printableText(message_).c_str());

@@ -62,15 +62,19 @@ Object classic(const Transform &at) {
 
 Object lens(const Transform &at) {
   return {CsgOp::Intersection,
-          {{0, solid(ShapeKind::Sphere, at * Transform::translate({-0.3, 0, 0}) * Transform::scale(0.5, 0.5, 0.5))},
-           {0, solid(ShapeKind::Sphere, at * Transform::translate({0.3, 0, 0}) * Transform::scale(0.5, 0.5, 0.5))}},
+          {{0, solid(ShapeKind::Sphere,
+                     at * Transform::translate({-0.3, 0, 0}) * Transform::scale(0.5, 0.5, 0.5))},
+           {0, solid(ShapeKind::Sphere,
+                     at * Transform::translate({0.3, 0, 0}) * Transform::scale(0.5, 0.5, 0.5))}},
           {}};
 }
 
 Object merged(const Transform &at) {
   return {CsgOp::Merge,
-          {{0, solid(ShapeKind::Sphere, at * Transform::translate({-0.2, 0, 0}) * Transform::scale(0.4, 0.4, 0.4))},
-           {0, solid(ShapeKind::Sphere, at * Transform::translate({0.2, 0, 0}) * Transform::scale(0.4, 0.4, 0.4))}},
+          {{0, solid(ShapeKind::Sphere,
+                     at * Transform::translate({-0.2, 0, 0}) * Transform::scale(0.4, 0.4, 0.4))},
+           {0, solid(ShapeKind::Sphere,
+                     at * Transform::translate({0.2, 0, 0}) * Transform::scale(0.4, 0.4, 0.4))}},
           {}};
 }
 
@@ -90,8 +94,9 @@ Scene grid(Object (*make)(const Transform &), int n, bool asCsg) {
   Scene s;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      Object o = make(Transform::translate({1.3 * (i - 0.5 * (n - 1)), 1.3 * (j - 0.5 * (n - 1)), 0}) *
-                      Transform::rotate({1, 1, 0.3}, 37.0 * (i + 2 * j)));
+      Object o =
+          make(Transform::translate({1.3 * (i - 0.5 * (n - 1)), 1.3 * (j - 0.5 * (n - 1)), 0}) *
+               Transform::rotate({1, 1, 0.3}, 37.0 * (i + 2 * j)));
       if (asCsg) s.entities.push_back(csgOf(o));
       else
         for (const auto &leaf : o.leaves) s.entities.push_back(leaf.second);
@@ -138,10 +143,12 @@ int run(int width, int height) {
     Object (*make)(const Transform &);
     int solids;
   };
-  const Kind kinds[] = {{"classic (5 solids)", classic, 5}, {"lens (2)", lens, 2}, {"merge (2)", merged, 2}};
+  const Kind kinds[] = {
+      {"classic (5 solids)", classic, 5}, {"lens (2)", lens, 2}, {"merge (2)", merged, 2}};
   const int n = 8;
-  std::printf("%dx%d camera rays + shadow rays from the hits, %dx%d objects, 1 thread, medians of 5\n",
-              width, height, n, n);
+  std::printf(
+      "%dx%d camera rays + shadow rays from the hits, %dx%d objects, 1 thread, medians of 5\n",
+      width, height, n, n);
   std::printf("%-20s %-7s %13s %13s %13s %13s %9s %9s\n", "object", "backend", "csg Mray/s",
               "plain Mray/s", "csg shadow", "plain shadow", "ratio", "shadow");
   for (const Kind &k : kinds) {

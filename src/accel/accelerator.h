@@ -35,7 +35,8 @@ public:
   virtual bool occluded(const Ray &ray) const = 0;
   /// Coherent batch (e.g. the camera rays of a tile): found[i] = 1 and
   /// hits[i] filled where ray i hits. Embree uses 8-wide packets here.
-  virtual void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const = 0;
+  virtual void intersectCoherent(const Ray *rays, size_t count, Hit *hits,
+                                 uint8_t *found) const = 0;
   /// Coherent batch of occlusion queries: occluded[i] = 1 where blocked.
   virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const = 0;
 

@@ -147,7 +147,9 @@ int run(const Options &opt) {
     t0 = std::chrono::steady_clock::now();
     setActivity("writing " + path);
     if (tiled)
-      writeTile(film, {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window, fingerprint},
+      writeTile(film,
+                {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window,
+                 fingerprint},
                 path);
     else
       writeImage(film, path, opt.format, opt.linear);

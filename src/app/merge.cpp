@@ -69,8 +69,9 @@ std::string firstOverlap(const std::vector<Piece> &pieces) {
 
 /// Stitches one frame's tiles, checked as a set from their headers before
 /// the frame is allocated; "" or what is wrong.
-std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::vector<Piece> &pieces,
-                       bool keepTiles, std::vector<std::string> &written) {
+std::string mergeFrame(const fs::path &dir, const std::string &finalName,
+                       std::vector<Piece> &pieces, bool keepTiles,
+                       std::vector<std::string> &written) {
   const TileHeader &h0 = pieces.front().header;
   const std::string first = pieces.front().path.filename().string();
   // Tiles of an N-way split: all N there?
@@ -80,14 +81,16 @@ std::string mergeFrame(const fs::path &dir, const std::string &finalName, std::v
       counts.insert(p.count);
       present.insert(p.index);
     }
-  if (counts.size() > 1) return finalName + ": tiles of different splits (--tile I/N with different N)";
+  if (counts.size() > 1)
+    return finalName + ": tiles of different splits (--tile I/N with different N)";
   if (counts.size() == 1) {
     const int n = *counts.begin();
     std::string missing;
     size_t listed = 0, more = 0;
     for (int i = 0; i < n; ++i) {
       if (present.count(i)) continue;
-      if (listed++ < kNamesListed) missing += (missing.empty() ? "" : ", ") + tileFileName(finalName, i, n);
+      if (listed++ < kNamesListed)
+        missing += (missing.empty() ? "" : ", ") + tileFileName(finalName, i, n);
       else ++more;
     }
     if (more) missing += fmt::format(" and {} more", more);
@@ -156,7 +159,8 @@ MergeResult mergeTiles(const std::string &dirName, bool keepTiles) {
   if (!fs::is_directory(dir, ec)) throw SceneError("'" + dirName + "' is not a folder");
   // Any name lray gives a tile: frames whose names start with a dot or
   // hold a newline included (readTileHeader checks the whole name).
-  static const std::regex kTileName(R"(^[\s\S]+\.(tile-(\d{1,6})-of-(\d{1,6})|crop-\d+-\d+-\d+-\d+)\.exr$)");
+  static const std::regex kTileName(
+      R"(^[\s\S]+\.(tile-(\d{1,6})-of-(\d{1,6})|crop-\d+-\d+-\d+-\d+)\.exr$)");
   std::map<std::string, std::vector<Piece>> frames;
   MergeResult result;
   std::vector<fs::path> files;

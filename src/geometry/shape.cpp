@@ -21,7 +21,8 @@ namespace {
 // store-forwarding stall per shape test).
 [[gnu::always_inline]] inline Ray objectRay(const Entity &entity, const Ray &worldRay) {
   const Mat4 &inv = entity.worldFromObject.inverseMatrix();
-  return {affinePoint(inv, worldRay.o), affineVector(inv, worldRay.d), worldRay.tMin, worldRay.tMax};
+  return {affinePoint(inv, worldRay.o), affineVector(inv, worldRay.d), worldRay.tMin,
+          worldRay.tMax};
 }
 
 // A distant origin makes the shapes' coefficients cancel: such rays are

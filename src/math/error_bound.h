@@ -25,12 +25,11 @@
 // intersected in double precision (also under Embree, whose callbacks read
 // the double ray), so they use eps = 2^-53, k = 64; triangles use
 // eps = 2^-24, k = 3, the bound for Embree's single-precision rays (the
-// kd-tree's double test is then covered too). k = 3 covers the rounding of the spawned origin to float
-// (half an ulp per component), Embree's float instance transform and its
-// float triangle test; measured: no self hits at any scale down to k = 0.25
-// (EmbreeRobustness), while k = 8 with the old norm pushed origins 4.8e-3
-// off a floor at 1e3, past an occluder 1e-3 above it, and at 1e5 into the
-// objects standing on it (tests/stress, StressScaleSweep).
+// kd-tree's double test is then covered too). k = 3 covers the rounding of the spawned origin to
+// float (half an ulp per component), Embree's float instance transform and its float triangle test;
+// measured: no self hits at any scale down to k = 0.25 (EmbreeRobustness), while k = 8 with the old
+// norm pushed origins 4.8e-3 off a floor at 1e3, past an occluder 1e-3 above it, and at 1e5 into
+// the objects standing on it (tests/stress, StressScaleSweep).
 #pragma once
 
 #include "math/transform.h"

@@ -15,7 +15,7 @@ struct Hit {
   uint32_t primitive = 0;  ///< triangle index for meshes, 0 for analytic shapes
   Vec3 p;                  ///< hit point, world space
   Vec3 pObject;            ///< hit point, entity object space (before worldFromObject)
-  Vec3 ng;                 ///< geometric normal, world space, unit, outward (not flipped to face the ray)
+  Vec3 ng; ///< geometric normal, world space, unit, outward (not flipped to face the ray)
   Vec3 ns;                 ///< shading normal, world space, unit, outward (same side as ng)
   double u = 0, v = 0;     ///< surface parameterisation (lua/README.md, "Entities")
   double pError = 0;       ///< conservative bound on the absolute error of p, per component

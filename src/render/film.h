@@ -50,7 +50,9 @@ public:
   float error(int x, int y) const { return error_[static_cast<size_t>(y) * width_ + x]; }
   void setError(int x, int y, float e) { error_[static_cast<size_t>(y) * width_ + x] = e; }
   uint32_t sampleCount(int x, int y) const { return samples_[static_cast<size_t>(y) * width_ + x]; }
-  void setSampleCount(int x, int y, uint32_t n) { samples_[static_cast<size_t>(y) * width_ + x] = n; }
+  void setSampleCount(int x, int y, uint32_t n) {
+    samples_[static_cast<size_t>(y) * width_ + x] = n;
+  }
   const std::vector<float> &errorData() const { return error_; }
 
   /// The layers for denoisers and compositors, per pixel, averaged over a

@@ -37,7 +37,8 @@ uint8_t quantize8(float value, bool srgb) {
 std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
   const std::vector<float> &src = film.data();
   std::vector<uint8_t> out(src.size());
-  std::transform(src.begin(), src.end(), out.begin(), [srgb](float v) { return quantize8(v, srgb); });
+  std::transform(src.begin(), src.end(), out.begin(),
+                 [srgb](float v) { return quantize8(v, srgb); });
   return out;
 }
 
@@ -83,7 +84,8 @@ std::string writePng(int width, int height, const uint8_t *rgb, bool srgb,
 
 std::vector<uint8_t> encodePng(const Film &film, bool srgb) {
   std::vector<uint8_t> bytes = quantizeFilm(film, srgb), png;
-  if (std::string why = writePng(film.width(), film.height(), bytes.data(), srgb, png); !why.empty())
+  if (std::string why = writePng(film.width(), film.height(), bytes.data(), srgb, png);
+      !why.empty())
     throw std::runtime_error("cannot encode the image as PNG: " + why);
   return png;
 }

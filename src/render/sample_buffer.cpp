@@ -17,7 +17,8 @@ SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1
   if (x1 > x0 && y1 > y0)
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x)
-        if (x < x0 || x >= x1 || y < y0 || y >= y1) active_[index(x, y)] = inRegion_[index(x, y)] = 0;
+        if (x < x0 || x >= x1 || y < y0 || y >= y1)
+          active_[index(x, y)] = inRegion_[index(x, y)] = 0;
   for (size_t i = 0; i < active_.size(); ++i)
     if (active_[i]) activeList_.push_back(static_cast<uint32_t>(i));
 }

@@ -167,7 +167,8 @@ Tile readTile(const std::string &path) {
   };
   const int r = at("R"), g = at("G"), b = at("B"), err = at("Error"), count = at("SampleCount");
   if (r < 0 || g < 0 || b < 0 || err < 0 || count < 0)
-    throw SceneError("tile '" + path + "': missing one of the channels R, G, B, Error, SampleCount");
+    throw SceneError("tile '" + path +
+                     "': missing one of the channels R, G, B, Error, SampleCount");
   const int z = at("Z"), nx = at("N.X"), ny = at("N.Y"), nz = at("N.Z"), ar = at("Albedo.R"),
             ag = at("Albedo.G"), ab = at("Albedo.B");
   const bool aovs = z >= 0 && nx >= 0 && ny >= 0 && nz >= 0 && ar >= 0 && ag >= 0 && ab >= 0;

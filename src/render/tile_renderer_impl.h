@@ -80,8 +80,10 @@ template <class Integ> struct TileWork {
 /// The pixels to render: settings.crop within the frame, or all of it.
 inline PixelWindow window(const FrameSettings &settings) {
   if (settings.crop.empty()) return {0, 0, settings.width, settings.height};
-  return {std::clamp(settings.crop.x0, 0, settings.width), std::clamp(settings.crop.y0, 0, settings.height),
-          std::clamp(settings.crop.x1, 0, settings.width), std::clamp(settings.crop.y1, 0, settings.height)};
+  return {std::clamp(settings.crop.x0, 0, settings.width),
+          std::clamp(settings.crop.y0, 0, settings.height),
+          std::clamp(settings.crop.x1, 0, settings.width),
+          std::clamp(settings.crop.y1, 0, settings.height)};
 }
 
 inline bool meets(const TileRect &t, const PixelWindow &w) {
@@ -119,8 +121,8 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 template <class Accel, class Integ, class Position>
 void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
-                bool spreadLight, bool pairedStrata, const Position &position, tile_detail::TileWork<Integ> &work,
-                RayCounts &counts) {
+                bool spreadLight, bool pairedStrata, const Position &position,
+                tile_detail::TileWork<Integ> &work, RayCounts &counts) {
   const size_t count = rect.pixels();
   uint32_t begin = end;
   size_t sampling = 0; // work.pixelList[0, sampling): the pixels with samples to take
@@ -263,7 +265,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // penumbra pixel's halves would differ however many samples it took, and
   // it would never stop).
   const uint32_t minSamples = static_cast<uint32_t>(std::max(1, adaptive.minSamples));
-  const uint32_t maxSamples = static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
+  const uint32_t maxSamples =
+      static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
   const uint32_t shares =
       !spread ? 1u
       : settings.adaptive ? std::max<uint32_t>(1, firstSobolPass(minSamples, maxSamples) / 2)
@@ -299,21 +302,23 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       }
       sobolPosition(x, y, pixel, s, sampler, px, py);
     };
-    forEachTile<Integ>(settings, perThread, progress, [&](const TileRect &rect, TileWork<Integ> &work,
-                                                        RayCounts &local) {
-      if (!meets(rect, crop)) return false;
-      const size_t count = rect.pixels();
-      std::fill_n(work.first.begin(), count, 0u);
-      sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition,
-                 work, local);
-      for (size_t i = 0; i < count; ++i) {
-        const int x = rect.x(i), y = rect.y(i);
-        film.set(x, y, work.sums[i] * invSamples);
-        film.setError(x, y, static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
-        film.setSampleCount(x, y, total);
-      }
-      return true;
-    });
+    forEachTile<Integ>(
+        settings, perThread, progress,
+        [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+          if (!meets(rect, crop)) return false;
+          const size_t count = rect.pixels();
+          std::fill_n(work.first.begin(), count, 0u);
+          sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition,
+                     work, local);
+          for (size_t i = 0; i < count; ++i) {
+            const int x = rect.x(i), y = rect.y(i);
+            film.set(x, y, work.sums[i] * invSamples);
+            film.setError(x, y,
+                          static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
+            film.setSampleCount(x, y, total);
+          }
+          return true;
+        });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });
     if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
     summarizeSampling(film);
@@ -349,7 +354,9 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   if (!settings.crop.empty()) {
     const int margin = adaptivePasses(minSamples, maxSamples) + 2 + kTileSize;
     auto down = [](int v) { return std::max(0, v / kTileSize * kTileSize); };
-    auto up = [](int v, int limit) { return std::min(limit, (v + kTileSize - 1) / kTileSize * kTileSize); };
+    auto up = [](int v, int limit) {
+      return std::min(limit, (v + kTileSize - 1) / kTileSize * kTileSize);
+    };
     region = {down(crop.x0 - margin), down(crop.y0 - margin), up(crop.x1 + margin, settings.width),
               up(crop.y1 + margin, settings.height)};
   }
@@ -362,42 +369,43 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   int passes = 0;
   uint32_t target = minSamples; // maxSamples >= minSamples; 1: the centre-first pass
   for (int pass = 0;; ++pass) {
-    forEachTile<Integ>(settings, perThread, progress, [&](const TileRect &rect, TileWork<Integ> &work,
-                                                        RayCounts &local) {
-      if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
-      // The first pass always completes: every pixel needs a value.
-      if (pass > 0) {
-        if (stopped()) {
-          cancelled = true;
-          return false;
-        }
-        if (timed && std::chrono::steady_clock::now() >= deadline) {
-          timeUp = true;
-          return false;
-        }
-      }
-      const size_t count = rect.pixels();
-      if (centreFirst && pass == 0) {
-        for (size_t i = 0; i < count; ++i)
-          work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
-        sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false, centrePosition,
-                   work, local);
-        for (size_t i = 0; i < count; ++i)
-          if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
-      } else {
-        for (size_t i = 0; i < count; ++i) {
-          const size_t p = buffer.index(rect.x(i), rect.y(i));
-          work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
-        }
-        sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
-                   sobolPosition, work, local);
-        for (size_t i = 0; i < count; ++i)
-          if (work.taken[i])
-            buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
-                       work.taken[i]);
-      }
-      return true;
-    });
+    forEachTile<Integ>(
+        settings, perThread, progress,
+        [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+          if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
+          // The first pass always completes: every pixel needs a value.
+          if (pass > 0) {
+            if (stopped()) {
+              cancelled = true;
+              return false;
+            }
+            if (timed && std::chrono::steady_clock::now() >= deadline) {
+              timeUp = true;
+              return false;
+            }
+          }
+          const size_t count = rect.pixels();
+          if (centreFirst && pass == 0) {
+            for (size_t i = 0; i < count; ++i)
+              work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
+            sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false,
+                       centrePosition, work, local);
+            for (size_t i = 0; i < count; ++i)
+              if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
+          } else {
+            for (size_t i = 0; i < count; ++i) {
+              const size_t p = buffer.index(rect.x(i), rect.y(i));
+              work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
+            }
+            sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
+                       sobolPosition, work, local);
+            for (size_t i = 0; i < count; ++i)
+              if (work.taken[i])
+                buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
+                           work.taken[i]);
+          }
+          return true;
+        });
     ++passes;
     if (settings.onPass && !cancelled) {
       Film sofar(settings.width, settings.height);

@@ -43,13 +43,15 @@ public:
     if (!frames_.empty()) {
       // "A", "A:B" or "A:B:STEP": non-negative integers, 0-based.
       if (!option_text::numbers(frames_, ':', n) || n.size() > 3)
-        return valueError("--frames", frames_, "expected A:B, A:B:STEP or A (0-based frame numbers)");
+        return valueError("--frames", frames_,
+                          "expected A:B, A:B:STEP or A (0-based frame numbers)");
       const int a = n[0], b = n.size() > 1 ? n[1] : n[0];
       if (b < a)
         return valueError("--frames", frames_,
                           "the last frame (" + std::to_string(b) + ") comes before the first (" +
                               std::to_string(a) + ")");
-      if (n.size() == 3 && n[2] == 0) return valueError("--frames", frames_, "the step must be 1 or more");
+      if (n.size() == 3 && n[2] == 0)
+        return valueError("--frames", frames_, "the step must be 1 or more");
       o.firstFrame = a;
       o.lastFrame = b;
       o.frameStep = n.size() == 3 ? n[2] : 1;
@@ -65,7 +67,8 @@ public:
       if (!option_text::numbers(crop_, ':', n) || n.size() != 4)
         return valueError("--crop", crop_, "expected x0:y0:x1:y1, pixel coordinates");
       if (n[2] <= n[0] || n[3] <= n[1])
-        return valueError("--crop", crop_, "the window is empty (x1 must be above x0, y1 above y0)");
+        return valueError("--crop", crop_,
+                          "the window is empty (x1 must be above x0, y1 above y0)");
       o.crop = PixelWindow{n[0], n[1], n[2], n[3]};
     }
     if (o.tile && o.crop) return "--tile and --crop both choose the pixels: give one";

@@ -74,8 +74,10 @@ inline bool numbers(const std::string &text, char separator, std::vector<int> &o
   size_t start = 0;
   for (;;) {
     size_t end = text.find(separator, start);
-    std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    if (part.empty() || part.size() > 9 || part.find_first_not_of("0123456789") != std::string::npos)
+    std::string part =
+        text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (part.empty() || part.size() > 9 ||
+        part.find_first_not_of("0123456789") != std::string::npos)
       return false;
     out.push_back(std::stoi(part));
     if (end == std::string::npos) return true;
@@ -84,7 +86,8 @@ inline bool numbers(const std::string &text, char separator, std::vector<int> &o
 }
 
 /// "--frames '3:x': why".
-inline std::string valueError(const char *option, const std::string &value, const std::string &why) {
+inline std::string valueError(const char *option, const std::string &value,
+                              const std::string &why) {
   return std::string(option) + " '" + value + "': " + why;
 }
 

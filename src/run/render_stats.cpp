@@ -14,9 +14,11 @@ namespace lray {
 namespace {
 
 std::string raysJson(const RayCounts &r) {
-  return fmt::format(R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, "refraction": {}, "total": {}}})",
-                     r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction,
-                     r.camera + r.shadow + r.reflection + r.refraction);
+  return fmt::format(
+      R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, )"
+      R"("refraction": {}, "total": {}}})",
+      r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction,
+      r.camera + r.shadow + r.reflection + r.refraction);
 }
 
 std::string errorJson(bool has, double value) {
@@ -59,15 +61,19 @@ std::string toJson(const RunStats &s) {
   }
   std::string out = "{\n";
   out += fmt::format("  \"lray_version\": {},\n", jsonString(LRAY_VERSION));
-  out += fmt::format("  \"scene\": {},\n  \"backend\": {},\n", jsonString(s.scene), jsonString(s.backend));
-  out += fmt::format("  \"threads\": {},\n  \"width\": {},\n  \"height\": {},\n  \"samples\": {},\n",
-                     s.threads, s.width, s.height, s.samples);
-  out += fmt::format("  \"times\": {{\"load_script\": {:.6f}, \"scene\": {:.6f}, \"images\": {:.6f}, "
-                     "\"build\": {:.6f}, \"render\": {:.6f}, \"write\": {:.6f}, \"total\": {:.6f}}},\n",
-                     s.loadSeconds, sceneT, images, build, render, write, s.totalSeconds);
+  out += fmt::format("  \"scene\": {},\n  \"backend\": {},\n", jsonString(s.scene),
+                     jsonString(s.backend));
+  out +=
+      fmt::format("  \"threads\": {},\n  \"width\": {},\n  \"height\": {},\n  \"samples\": {},\n",
+                  s.threads, s.width, s.height, s.samples);
+  out += fmt::format(
+      "  \"times\": {{\"load_script\": {:.6f}, \"scene\": {:.6f}, \"images\": {:.6f}, "
+      "\"build\": {:.6f}, \"render\": {:.6f}, \"write\": {:.6f}, \"total\": {:.6f}}},\n",
+      s.loadSeconds, sceneT, images, build, render, write, s.totalSeconds);
   const AdaptiveSettings &a = s.sampling.adaptiveSettings;
   out += fmt::format(
-      "  \"sampling\": {{\"mode\": \"{}\", \"light_sampling\": \"{}\", \"noise_threshold\": {:.6g}, "
+      "  \"sampling\": {{\"mode\": \"{}\", \"light_sampling\": \"{}\", \"noise_threshold\": "
+      "{:.6g}, "
       "\"min_samples\": {}, \"max_samples\": {}, \"time_limit\": {:.6g}, \"seed\": {}}},\n",
       s.sampling.adaptive ? "adaptive" : "fixed",
       s.sampling.lightSampling == LightSampling::Spread ? "spread" : "all",
@@ -75,12 +81,14 @@ std::string toJson(const RunStats &s) {
       s.sampling.adaptive ? a.maxSamples : 0, s.sampling.adaptive ? a.timeLimit : 0.0,
       s.sampling.seed);
   if (!s.settings.empty()) out += fmt::format("  \"settings\": {},\n", s.settings);
-  const double pixels = static_cast<double>(s.width) * s.height * static_cast<double>(s.frames.size());
+  const double pixels =
+      static_cast<double>(s.width) * s.height * static_cast<double>(s.frames.size());
   out += fmt::format("  \"camera_samples\": {},\n  \"samples_per_pixel\": {:.6g},\n", samples,
                      pixels > 0 ? static_cast<double>(samples) / pixels : 0);
-  out += fmt::format("  \"error\": {{\"mean\": {}, \"max\": {}}},\n",
-                     errorJson(withError > 0, withError ? errorSum / static_cast<double>(withError) : 0),
-                     errorJson(withError > 0, errorMax));
+  out += fmt::format(
+      "  \"error\": {{\"mean\": {}, \"max\": {}}},\n",
+      errorJson(withError > 0, withError ? errorSum / static_cast<double>(withError) : 0),
+      errorJson(withError > 0, errorMax));
   out += fmt::format("  \"rays\": {},\n", raysJson(total));
   out += fmt::format("  \"non_finite_samples\": {},\n", nonFinite);
   out += fmt::format("  \"peak_memory_bytes\": {},\n", s.peakMemoryBytes);
@@ -89,12 +97,15 @@ std::string toJson(const RunStats &s) {
     const FrameStats &f = s.frames[i];
     out += i ? ",\n    " : "\n    ";
     out += fmt::format(
-        R"({{"frame": {}, "clock": {}, "file": {}, "entities": {}, "lights": {}, "primitives": {}, "instances": {}, )"
-        R"("accel_memory_bytes": {}, "times": {{"scene": {:.6f}, "images": {:.6f}, "build": {:.6f}, "render": {:.6f}, "write": {:.6f}}}, )"
+        R"({{"frame": {}, "clock": {}, "file": {}, "entities": {}, "lights": {}, )"
+        R"("primitives": {}, "instances": {}, )"
+        R"("accel_memory_bytes": {}, "times": {{"scene": {:.6f}, "images": {:.6f}, )"
+        R"("build": {:.6f}, "render": {:.6f}, "write": {:.6f}}}, )"
         R"("rays": {}, "non_finite_samples": {}, "sampling": {}}})",
-        f.frame, f.clock, jsonString(f.file), f.entities, f.lights, f.accel.primitives, f.accel.instances,
-        f.accel.memoryBytes, f.sceneSeconds, f.imageSeconds, f.accel.buildSeconds, f.renderSeconds,
-        f.writeSeconds, raysJson(f.rays), f.rays.nonFinite, frameSamplingJson(f, s.width, s.height));
+        f.frame, f.clock, jsonString(f.file), f.entities, f.lights, f.accel.primitives,
+        f.accel.instances, f.accel.memoryBytes, f.sceneSeconds, f.imageSeconds,
+        f.accel.buildSeconds, f.renderSeconds, f.writeSeconds, raysJson(f.rays), f.rays.nonFinite,
+        frameSamplingJson(f, s.width, s.height));
   }
   out += s.frames.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return out;

@@ -48,8 +48,9 @@ RunPlan makeRunPlan(const Options &options, const SceneInfo &fromScript) {
   } else if (options.crop) {
     const PixelWindow &c = *options.crop;
     if (c.x1 > width || c.y1 > height)
-      throw SceneError(fmt::format("--crop {}:{}:{}:{}: the window reaches outside the {} x {} frame",
-                                   c.x0, c.y0, c.x1, c.y1, width, height));
+      throw SceneError(
+          fmt::format("--crop {}:{}:{}:{}: the window reaches outside the {} x {} frame", c.x0,
+                      c.y0, c.x1, c.y1, width, height));
     plan.frameSettings.crop = c;
   }
   return plan;
@@ -68,7 +69,8 @@ std::string RunPlan::finalName(int frame) const {
 std::string RunPlan::outputName(int frame) const {
   const std::string name = finalName(frame);
   if (!tiled()) return name;
-  return tile ? tileFileName(name, tile->first, tile->second) : cropFileName(name, frameSettings.crop);
+  return tile ? tileFileName(name, tile->first, tile->second)
+              : cropFileName(name, frameSettings.crop);
 }
 
 std::vector<PlanSetting> RunPlan::settings() const {
@@ -86,7 +88,8 @@ std::vector<PlanSetting> RunPlan::settings() const {
       {"max_samples", std::to_string(a.maxSamples)},
       {"time_limit", number(a.timeLimit)},
       {"seed", std::to_string(frameSettings.seed)},
-      {"light_sampling", jsonString(frameSettings.lightSampling == LightSampling::Spread ? "spread" : "all")},
+      {"light_sampling",
+       jsonString(frameSettings.lightSampling == LightSampling::Spread ? "spread" : "all")},
       {"format", jsonString(formatExtension(format))},
       {"linear", linear ? "true" : "false"},
       {"aovs", frameSettings.aovs ? "true" : "false"},

@@ -124,7 +124,8 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   AdaptiveSettings &a = s.adaptiveSettings;
   a.noiseThreshold = threshold;
   a.timeLimit = options.timeLimit;
-  a.maxSamples = options.maxSamples.value_or(std::max(a.maxSamples, options.minSamples.value_or(0)));
+  a.maxSamples =
+      options.maxSamples.value_or(std::max(a.maxSamples, options.minSamples.value_or(0)));
   a.minSamples = options.minSamples.value_or(std::min(a.minSamples, a.maxSamples));
   if (a.minSamples > a.maxSamples)
     throw SceneError(fmt::format("--min-samples ({}) is above --max-samples ({})", a.minSamples,

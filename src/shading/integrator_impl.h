@@ -143,7 +143,8 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               shadow -= n;
               counts.shadowSkipped += n;
             } else if (candidates.direct) {
-              for (size_t j = 0; j < n; ++j) blocked[j] = shafts_.occluded(candidates, shadowRays[j]);
+              for (size_t j = 0; j < n; ++j)
+                blocked[j] = shafts_.occluded(candidates, shadowRays[j]);
             } else if (coherent) {
               accel_.occludedCoherent(shadowRays, n, blocked);
             } else {

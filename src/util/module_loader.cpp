@@ -13,7 +13,8 @@ void *loadModuleEntry(const std::string &buildPath, const std::string &fileName,
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path &candidate : {fs::path(buildPath), ec ? fs::path() : exe.parent_path() / fileName}) {
+  for (const fs::path &candidate :
+       {fs::path(buildPath), ec ? fs::path() : exe.parent_path() / fileName}) {
     if (candidate.empty()) continue;
     void *handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {

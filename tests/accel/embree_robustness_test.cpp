@@ -112,7 +112,8 @@ std::shared_ptr<MeshData> pbrtProbeSphere(std::mt19937_64 &rng) {
       } else {
         double r = 1 + 5 * unit(rng);
         vertices.push_back({float(r * std::sin(theta) * std::cos(phi)),
-                            float(r * std::sin(theta) * std::sin(phi)), float(r * std::cos(theta))});
+                            float(r * std::sin(theta) * std::sin(phi)),
+                            float(r * std::cos(theta))});
       }
     }
   }
@@ -304,7 +305,8 @@ TEST(EmbreeRobustness, QuadricsDoNotSelfIntersectAtAnyScale) {
   std::uniform_real_distribution<double> u(-1, 1);
   SelfHitCount count;
   int farSideShort = 0, farSideRays = 0;
-  for (ShapeKind kind : {ShapeKind::Sphere, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Cube}) {
+  for (ShapeKind kind :
+       {ShapeKind::Sphere, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Cube}) {
     for (double r : {1e-4, 1e-2, 1.0, 1e2, 1e4}) {
       Transform xf = Transform::translate(Vec3(u(rng), u(rng), u(rng)) * (3 * r)) *
                      Transform::rotate({u(rng), u(rng), 1}, 180 * u(rng)) *

@@ -42,7 +42,8 @@ inline Result runLray(const std::string &args) { return runBinary(LRAY_BINARY, a
 
 /// lray-merge, built beside lray.
 inline Result runMerge(const std::string &args) {
-  return runBinary((std::filesystem::path(LRAY_BINARY).parent_path() / "lray-merge").string(), args);
+  return runBinary((std::filesystem::path(LRAY_BINARY).parent_path() / "lray-merge").string(),
+                   args);
 }
 
 inline std::string readFile(const fs::path &p) {
@@ -54,8 +55,9 @@ class LrayCli : public ::testing::Test {
 protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("lray_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
+           ("lray_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

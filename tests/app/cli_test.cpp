@@ -119,18 +119,19 @@ TEST_F(LrayCli, SameBytesWhateverTheThreadCountOnBothBackends) {
 TEST_F(LrayCli, CsgWithCoincidentFacesIsTheSameBytesOnBothBackendsAndAnyThreadCount) {
   // A red cube minus a green box sharing its front face, turned: the carved
   // (green) wall shows, never speckles of the shared red face.
-  fs::path scene = writeScene(
-      "csg.lua",
-      "scene_info = SceneInfo() { image_width = 40, image_height = 30 }\n"
-      "function scene()\n"
-      "  local s = Scene() { camera = Perspective(40, 4 / 3) { transform = LookAt(Vector(0.7, 0.9, -3), origin, y) } }\n"
-      "  s:add_entity(Difference {\n"
-      "    Cube() { texture = Texture() { pigment = ColorPigment(red) } },\n"
-      "    Cube(Translate(Vector(0, 0, -0.3)) * Scale(0.6, 0.6, 0.4)) { texture = Texture() { pigment = ColorPigment(green) } },\n"
-      "    transform = Rotate(Vector(1, 2, 3), 17) * Scale(1.3),\n"
-      "  })\n"
-      "  s:add_light(Light() { transform = Translate(Vector(-2, 3, -4)) })\n"
-      "  return s\nend\n");
+  fs::path scene =
+      writeScene("csg.lua", "scene_info = SceneInfo() { image_width = 40, image_height = 30 }\n"
+                            "function scene()\n"
+                            "  local s = Scene() { camera = Perspective(40, 4 / 3) { transform = "
+                            "LookAt(Vector(0.7, 0.9, -3), origin, y) } }\n"
+                            "  s:add_entity(Difference {\n"
+                            "    Cube() { texture = Texture() { pigment = ColorPigment(red) } },\n"
+                            "    Cube(Translate(Vector(0, 0, -0.3)) * Scale(0.6, 0.6, 0.4)) { "
+                            "texture = Texture() { pigment = ColorPigment(green) } },\n"
+                            "    transform = Rotate(Vector(1, 2, 3), 17) * Scale(1.3),\n"
+                            "  })\n"
+                            "  s:add_light(Light() { transform = Translate(Vector(-2, 3, -4)) })\n"
+                            "  return s\nend\n");
   std::string first;
   for (const char *backend : {"embree", "kdtree"}) {
     for (int threads : {1, 2, 8}) {
@@ -235,7 +236,8 @@ TEST_F(LrayCli, TimeLimitWritesTheImageItReached) {
 TEST_F(LrayCli, SeedGivesAnotherIndependentStreamAndZeroIsTheDefault) {
   fs::path scene = writeScene("sd.lua", kSpheres);
   auto render = [&](const std::string &dir, const std::string &args) {
-    Result r = runLray(scene.string() + " " + (dir_ / dir).string() + " --quiet --frames 1 " + args);
+    Result r =
+        runLray(scene.string() + " " + (dir_ / dir).string() + " --quiet --frames 1 " + args);
     EXPECT_EQ(r.status, 0) << r.output;
     return readFile(dir_ / dir / "sd0001.png");
   };

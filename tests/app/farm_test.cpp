@@ -72,19 +72,26 @@ TEST_F(Farm, TilesMergeIntoTheSameBytesAsTheWholeFrame) {
   }
   // Crops too, of any shape (here two columns and a corner split).
   fs::path whole = dir_ / "whole2", crops = dir_ / "crops";
-  ASSERT_EQ(runLray(scene.string() + " " + whole.string() + " -q --frames 4 --noise-threshold 0.03 --max-samples 64").status, 0);
+  ASSERT_EQ(runLray(scene.string() + " " + whole.string() +
+                    " -q --frames 4 --noise-threshold 0.03 --max-samples 64")
+                .status,
+            0);
   for (const char *c : {"0:0:30:53", "30:0:72:20", "30:20:72:53"})
     ASSERT_EQ(runLray(scene.string() + " " + crops.string() +
-                      " -q --frames 4 --noise-threshold 0.03 --max-samples 64 --crop " + c).status, 0);
+                      " -q --frames 4 --noise-threshold 0.03 --max-samples 64 --crop " + c)
+                  .status,
+              0);
   ASSERT_EQ(runMerge(crops.string() + " --keep-tiles").status, 0);
   EXPECT_TRUE(readFile(whole / "f0004.png") == readFile(crops / "f0004.png"));
   EXPECT_TRUE(fs::exists(crops / "f0004.crop-30-0-72-20.exr"));
   // The centre-first pass decides from its neighbours: crops stitch the same.
   fs::path whole1 = dir_ / "whole1", crops1 = dir_ / "crops1";
-  const std::string centreFirst = " -q --frames 4 --noise-threshold 0.02 --min-samples 1 --max-samples 64";
+  const std::string centreFirst =
+      " -q --frames 4 --noise-threshold 0.02 --min-samples 1 --max-samples 64";
   ASSERT_EQ(runLray(scene.string() + " " + whole1.string() + centreFirst).status, 0);
   for (const char *c : {"0:0:30:53", "30:0:72:20", "30:20:72:53"})
-    ASSERT_EQ(runLray(scene.string() + " " + crops1.string() + centreFirst + " --crop " + c).status, 0);
+    ASSERT_EQ(runLray(scene.string() + " " + crops1.string() + centreFirst + " --crop " + c).status,
+              0);
   ASSERT_EQ(runMerge(crops1.string()).status, 0);
   EXPECT_TRUE(readFile(whole1 / "f0004.png") == readFile(crops1 / "f0004.png"));
 }
@@ -97,41 +104,52 @@ TEST_F(Farm, MergeNamesWhatIsMissingOrWrong) {
                       std::to_string(i) + "/4").status, 0);
   Result r = runMerge(out.string());
   EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.output, "lray-merge: error: f0000.png: missing f0000.tile-1-of-4.exr, f0000.tile-3-of-4.exr\n");
+  EXPECT_EQ(r.output,
+            "lray-merge: error: f0000.png: missing f0000.tile-1-of-4.exr, f0000.tile-3-of-4.exr\n");
   EXPECT_FALSE(fs::exists(out / "f0000.png"));
   EXPECT_TRUE(fs::exists(out / "f0000.tile-0-of-4.exr")); // nothing removed
   // Overlapping crops.
   fs::path crops = dir_ / "c";
   for (const char *c : {"0:0:40:53", "30:0:72:53"})
-    ASSERT_EQ(runLray(scene.string() + " " + crops.string() + " -q --frames 0 --crop " + c).status, 0);
+    ASSERT_EQ(runLray(scene.string() + " " + crops.string() + " -q --frames 0 --crop " + c).status,
+              0);
   r = runMerge(crops.string());
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.output.find("f0000.png: tiles overlap at pixel (30, 0)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("f0000.png: tiles overlap at pixel (30, 0)"), std::string::npos)
+      << r.output;
   // An EXR that is not a tile.
   fs::path other = dir_ / "x";
-  ASSERT_EQ(runLray(scene.string() + " " + other.string() + " -q --frames 0 --format exr").status, 0);
+  ASSERT_EQ(runLray(scene.string() + " " + other.string() + " -q --frames 0 --format exr").status,
+            0);
   fs::rename(other / "f0000.exr", other / "f0000.tile-0-of-1.exr");
   r = runMerge(other.string());
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.output.find("not a tile written by lray --tile or --crop"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not a tile written by lray --tile or --crop"), std::string::npos)
+      << r.output;
   // Tiles of two different renders of one frame (other samples).
   fs::path mixed = dir_ / "m";
-  ASSERT_EQ(runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 1 --tile 0/2").status, 0);
-  ASSERT_EQ(runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 2 --tile 1/2").status, 0);
+  ASSERT_EQ(
+      runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 1 --tile 0/2").status, 0);
+  ASSERT_EQ(
+      runLray(scene.string() + " " + mixed.string() + " -q --frames 0 -s 2 --tile 1/2").status, 0);
   r = runMerge(mixed.string());
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("come from different renders"), std::string::npos) << r.output;
   // --skip-existing does not take a tile of another render for this one.
-  r = runLray(scene.string() + " " + mixed.string() + " --frames 0 -s 2 --tile 0/2 --skip-existing");
+  r = runLray(scene.string() + " " + mixed.string() +
+              " --frames 0 -s 2 --tile 0/2 --skip-existing");
   EXPECT_EQ(r.output.find("exists: skipped"), std::string::npos) << r.output;
   EXPECT_EQ(runMerge(mixed.string()).status, 0);
   // A tile renamed to claim another frame (or any other file) is refused.
   fs::path renamed = dir_ / "r";
-  ASSERT_EQ(runLray(scene.string() + " " + renamed.string() + " -q --frames 0 --tile 0/1").status, 0);
+  ASSERT_EQ(runLray(scene.string() + " " + renamed.string() + " -q --frames 0 --tile 0/1").status,
+            0);
   fs::rename(renamed / "f0000.tile-0-of-1.exr", renamed / "f.tile-0-of-1.exr");
   r = runMerge(renamed.string());
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.output.find("it names the frame 'f0000.png', which is not its own"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("it names the frame 'f0000.png', which is not its own"),
+            std::string::npos)
+      << r.output;
   EXPECT_FALSE(fs::exists(renamed / "f0000.png"));
   // Nothing to do is not an error.
   fs::create_directories(dir_ / "empty");
@@ -148,10 +166,13 @@ TEST_F(Farm, FrameStepsAndSkipExistingResumeAnAnimation) {
   // A truncated frame (a crash mid-write of some other tool) and a frame of
   // the wrong size are rendered again; complete ones are skipped.
   {
-    std::ofstream(out / "f0001.png", std::ios::binary | std::ios::trunc) << before.substr(0, before.size() / 2);
+    std::ofstream(out / "f0001.png", std::ios::binary | std::ios::trunc)
+        << before.substr(0, before.size() / 2);
   }
-  ASSERT_EQ(runLray(scene.string() + " " + (dir_ / "small").string() + " -q --frames 5 -w 20").status, 0);
-  fs::copy_file(dir_ / "small" / "f0005.png", out / "f0005.png", fs::copy_options::overwrite_existing);
+  ASSERT_EQ(
+      runLray(scene.string() + " " + (dir_ / "small").string() + " -q --frames 5 -w 20").status, 0);
+  fs::copy_file(dir_ / "small" / "f0005.png", out / "f0005.png",
+                fs::copy_options::overwrite_existing);
   Result r = runLray(scene.string() + " " + out.string() + " --frames 0:5 --skip-existing");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("f0003.png exists: skipped"), std::string::npos) << r.output;
@@ -175,13 +196,21 @@ TEST_F(Farm, TileAndCropMistakesAreReadable) {
   fs::path scene = writeScene("f.lua", kScene);
   const std::string base = scene.string() + " " + (dir_ / "o").string() + " -q ";
   auto error = [&](const std::string &args) { return runLray(base + args).output; };
-  EXPECT_EQ(error("--tile 4/4"), "lray: error: --tile '4/4': I must be below N (tiles are numbered from 0) (run 'lray --help' for usage)\n");
-  EXPECT_EQ(error("--tile 1-4"), "lray: error: --tile '1-4': expected I/N, tile I (0-based) of N (run 'lray --help' for usage)\n");
-  EXPECT_EQ(error("--tile 0/5"), "lray: error: --tile 0/5: a frame 53 pixels high has 4 rows of 16-pixel tiles, so at most 4 tiles\n");
-  EXPECT_EQ(error("--crop 0:0:0:5"), "lray: error: --crop '0:0:0:5': the window is empty (x1 must be above x0, y1 above y0) (run 'lray --help' for usage)\n");
-  EXPECT_EQ(error("--crop 0:0:80:5"), "lray: error: --crop 0:0:80:5: the window reaches outside the 72 x 53 frame\n");
-  EXPECT_EQ(error("--frames 0:4:0"), "lray: error: --frames '0:4:0': the step must be 1 or more (run 'lray --help' for usage)\n");
-  EXPECT_EQ(error("--crop 0:0:8:8 --tile 0/2"), "lray: error: --tile and --crop both choose the pixels: give one (run 'lray --help' for usage)\n");
+  EXPECT_EQ(error("--tile 4/4"), "lray: error: --tile '4/4': I must be below N (tiles are numbered "
+                                 "from 0) (run 'lray --help' for usage)\n");
+  EXPECT_EQ(error("--tile 1-4"), "lray: error: --tile '1-4': expected I/N, tile I (0-based) of N "
+                                 "(run 'lray --help' for usage)\n");
+  EXPECT_EQ(error("--tile 0/5"), "lray: error: --tile 0/5: a frame 53 pixels high has 4 rows of "
+                                 "16-pixel tiles, so at most 4 tiles\n");
+  EXPECT_EQ(error("--crop 0:0:0:5"), "lray: error: --crop '0:0:0:5': the window is empty (x1 must "
+                                     "be above x0, y1 above y0) (run 'lray --help' for usage)\n");
+  EXPECT_EQ(error("--crop 0:0:80:5"),
+            "lray: error: --crop 0:0:80:5: the window reaches outside the 72 x 53 frame\n");
+  EXPECT_EQ(
+      error("--frames 0:4:0"),
+      "lray: error: --frames '0:4:0': the step must be 1 or more (run 'lray --help' for usage)\n");
+  EXPECT_EQ(error("--crop 0:0:8:8 --tile 0/2"), "lray: error: --tile and --crop both choose the "
+                                                "pixels: give one (run 'lray --help' for usage)\n");
 }
 
 TEST(TileBand, BandsOfWholeTileRowsCoverTheFrameOnce) {

@@ -28,13 +28,16 @@ class WatchTest : public ::testing::Test {
 protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("lray_watch_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
+           ("lray_watch_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
-  void write(const std::string &name, const std::string &text) { std::ofstream(dir_ / name) << text; }
+  void write(const std::string &name, const std::string &text) {
+    std::ofstream(dir_ / name) << text;
+  }
   fs::path dir_;
 };
 
@@ -125,8 +128,9 @@ TEST(PreviewStateTest, TextThatIsNotUtf8IsShownNotRefused) {
 }
 
 TEST_F(WatchTest, ACancelledRenderStopsWithinOnePass) {
-  write("scene.lua", "function scene() local s = Scene() ; s:add_entity(Sphere(Translate(Vector(0, 0, 4))))\n"
-                     "s:add_light(Light() { transform = Translate(Vector(2, 3, 0)) }) ; return s end\n");
+  write("scene.lua",
+        "function scene() local s = Scene() ; s:add_entity(Sphere(Translate(Vector(0, 0, 4))))\n"
+        "s:add_light(Light() { transform = Translate(Vector(2, 3, 0)) }) ; return s end\n");
   SceneScript script((dir_ / "scene.lua").string());
   Scene scene = script.buildFrame(0);
   auto accel = makeAccelerator(BackendKind::Embree, scene);
@@ -183,10 +187,14 @@ TEST(PreviewServer, ServesOnlyItsRoutesToItsOwnOrigin) {
   EXPECT_EQ(client.Post("/save", evil, "{}", "application/json")->status, 403);
   EXPECT_FALSE(state.requestPending());
   // Another Host (DNS rebinding): refused everywhere.
-  EXPECT_EQ(client.Get("/", {{"Host", "evil.example:" + std::to_string(server.port())}})->status, 403);
+  EXPECT_EQ(client.Get("/", {{"Host", "evil.example:" + std::to_string(server.port())}})->status,
+            403);
   // The page's own origin: accepted; malformed requests: 400.
   httplib::Headers own = {{"Origin", origin}};
-  EXPECT_EQ(client.Post("/control", own, "{\"frame\": 3, \"backend\": \"kdtree\"}", "application/json")->status, 204);
+  EXPECT_EQ(
+      client.Post("/control", own, "{\"frame\": 3, \"backend\": \"kdtree\"}", "application/json")
+          ->status,
+      204);
   auto r = state.takeRequest();
   ASSERT_TRUE(r);
   EXPECT_EQ(*r->frame, 3);

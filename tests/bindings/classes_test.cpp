@@ -21,8 +21,10 @@ protected:
   // Numbers and booleans compare with ==, other values by tostring
   // (Transforms have no ==).
   bool same(const std::string &a, const std::string &b) {
-    return truth("(function(a, b) if type(a) == 'number' or type(a) == 'boolean' then return a == b end "
-                 "return tostring(a) == tostring(b) end)(" + a + ", " + b + ")");
+    return truth(
+        "(function(a, b) if type(a) == 'number' or type(a) == 'boolean' then return a == b end "
+        "return tostring(a) == tostring(b) end)(" +
+        a + ", " + b + ")");
   }
 };
 
@@ -168,7 +170,8 @@ TEST_P(ReferenceAttributeTest, SetAndBulkSetKeepIdentity) {
 
 TEST_P(ReferenceAttributeTest, WrongTypeIsAnError) {
   const ReferenceCase &c = GetParam();
-  std::string error = runLua(std::string("o = ") + c.object + "\no." + c.attribute + " = Vector(1, 2, 3)");
+  std::string error =
+      runLua(std::string("o = ") + c.object + "\no." + c.attribute + " = Vector(1, 2, 3)");
   EXPECT_EQ(error.rfind("test.lua:2: ", 0), 0u) << error;
   EXPECT_NE(error.find(std::string("attribute '") + c.attribute + "' expects "), std::string::npos)
       << error;
@@ -195,7 +198,8 @@ const ReferenceCase kReferences[] = {
     {"MarblePigment3D()", "texture_map", "TextureMap3D", "LinearMap()"},
     {"WoodPigment3D()", "texture_map", "TextureMap3D", "TextureMap3D()"},
     {"ImagePigment2D('../../scenes/texture.png')", "texture_map", "TextureMap2D", "SphericalMap()"},
-    {"ImagePigment2D('../../scenes/texture.png')", "texture_map", "TextureMap2D", "CylindricalMap()"},
+    {"ImagePigment2D('../../scenes/texture.png')", "texture_map", "TextureMap2D",
+     "CylindricalMap()"},
 };
 
 INSTANTIATE_TEST_SUITE_P(AllClasses, ReferenceAttributeTest, ::testing::ValuesIn(kReferences));
@@ -248,9 +252,10 @@ TEST_F(ObjectModelTest, MeshArraysRoundTrip) {
 }
 
 TEST_F(ObjectModelTest, MeshCopySharesGeometryAndTexture) {
-  ASSERT_EQ(runLua("m = Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, indices = {{1, 2, 3}} }\n"
-                   "t = m.texture; c = m:copy() { transform = Translate(x) }"),
-            "");
+  ASSERT_EQ(
+      runLua("m = Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, indices = {{1, 2, 3}} }\n"
+             "t = m.texture; c = m:copy() { transform = Translate(x) }"),
+      "");
   EXPECT_TRUE(truth("rawequal(c.texture, t)"));
   EXPECT_EQ(num("#c.vertices"), 3);
   EXPECT_EQ(str("m.transform"), str("Identity()"));

@@ -16,13 +16,15 @@ protected:
 };
 
 TEST_F(CsgBindingTest, ConstructorsTakeSolidsAndAttributes) {
-  ASSERT_EQ(runLua("t = Texture()\n"
-                   "d = Difference { Cube(), Sphere(Scale(0.6)), texture = t, transform = Translate(y) }\n"
-                   "n = #d.children\n"
-                   "same = d.children[2] == d.children[2] and d.texture == t\n"
-                   "kids = d.children; kids[1] = nil; still = #d.children\n"
-                   "m = Merge { Sphere() } ; i = Intersection { d, m } ; u = Union { i, Torus() }"),
-            "");
+  ASSERT_EQ(
+      runLua(
+          "t = Texture()\n"
+          "d = Difference { Cube(), Sphere(Scale(0.6)), texture = t, transform = Translate(y) }\n"
+          "n = #d.children\n"
+          "same = d.children[2] == d.children[2] and d.texture == t\n"
+          "kids = d.children; kids[1] = nil; still = #d.children\n"
+          "m = Merge { Sphere() } ; i = Intersection { d, m } ; u = Union { i, Torus() }"),
+      "");
   EXPECT_EQ(num("n"), 2);
   EXPECT_EQ(str("same"), "true");
   EXPECT_EQ(num("still"), 2);
@@ -190,9 +192,11 @@ TEST_F(CsgBindingTest, ConversionErrorsNameTheSolidsLine) {
                    "s:add_entity(Merge(list))"),
             "");
   EXPECT_EQ(conversionError("s").substr(0, 60),
-            std::string("test.lua:4: Merge: 4097 solids in one tree, more than 4096 (each").substr(0, 60));
+            std::string("test.lua:4: Merge: 4097 solids in one tree, more than 4096 (each")
+                .substr(0, 60));
   ASSERT_EQ(runLua("s = Scene()\n"
-                   "s:add_entity(Difference { Cube(), Sphere(Scale(1, 1, 1)) { transform = Scale(0, 1, 1) } })"),
+                   "s:add_entity(Difference { Cube(), Sphere(Scale(1, 1, 1)) { transform = "
+                   "Scale(0, 1, 1) } })"),
             "test.lua:2: Scale: the transform is singular (a scale factor is zero)");
 }
 

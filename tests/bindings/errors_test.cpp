@@ -28,7 +28,8 @@ TEST_F(BindingErrorTest, WrongTypeNamesExpectedAndGiven) {
             "test.lua:2: Finish: attribute 'diffuse' expects a number, got string");
   EXPECT_EQ(runLua("Light().color = Vector(1, 1, 1)"),
             "test.lua:1: Light: attribute 'color' expects a Color, got Vector");
-  EXPECT_EQ(runLua("Light().area = 1"), "test.lua:1: Light: attribute 'area' expects a boolean, got number");
+  EXPECT_EQ(runLua("Light().area = 1"),
+            "test.lua:1: Light: attribute 'area' expects a boolean, got number");
   EXPECT_EQ(runLua("Sphere().transform = x"),
             "test.lua:1: Sphere: attribute 'transform' expects a Transform, got Vector");
   EXPECT_EQ(runLua("Sphere().texture = Finish()"),
@@ -37,11 +38,12 @@ TEST_F(BindingErrorTest, WrongTypeNamesExpectedAndGiven) {
             "test.lua:1: Texture: attribute 'finish' expects a Finish, got nil");
   EXPECT_EQ(runLua("Finish().diffuse = math.huge"),
             "test.lua:1: Finish: attribute 'diffuse' expects a finite number, got inf");
-  EXPECT_EQ(runLua("local s = Sphere(x)"), "test.lua:1: Sphere: argument 1 expects a Transform, got Vector");
+  EXPECT_EQ(runLua("local s = Sphere(x)"),
+            "test.lua:1: Sphere: argument 1 expects a Transform, got Vector");
   EXPECT_EQ(runLua("local s = Sphere(Identity(), 2)"),
             "test.lua:1: Sphere: too many arguments (takes at most 1, got 2)");
-  EXPECT_EQ(runLua("local f = Finish() 'x'"),
-            "test.lua:1: Finish: calling an object sets attributes in bulk and takes one table, got string");
+  EXPECT_EQ(runLua("local f = Finish() 'x'"), "test.lua:1: Finish: calling an object sets "
+                                              "attributes in bulk and takes one table, got string");
 }
 
 TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
@@ -53,8 +55,10 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
             "test.lua:1: SceneInfo: attribute 'image_height' expects an integer, got 2.5");
   EXPECT_EQ(runLua("scene_info = SceneInfo() { samples = '4' }"),
             "test.lua:1: SceneInfo: attribute 'samples' expects an integer, got string");
-  EXPECT_EQ(runLua("Light().rows = 0"), "test.lua:1: Light: attribute 'rows' expects a positive integer, got 0");
-  EXPECT_EQ(runLua("Light().cols = -1"), "test.lua:1: Light: attribute 'cols' expects a positive integer, got -1");
+  EXPECT_EQ(runLua("Light().rows = 0"),
+            "test.lua:1: Light: attribute 'rows' expects a positive integer, got 0");
+  EXPECT_EQ(runLua("Light().cols = -1"),
+            "test.lua:1: Light: attribute 'cols' expects a positive integer, got -1");
   EXPECT_EQ(runLua("MarblePigment3D().size = 0"),
             "test.lua:1: MarblePigment3D: attribute 'size' expects a positive number, got 0");
   EXPECT_EQ(runLua("Torus().minor = 0"),
@@ -66,8 +70,9 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(runLua("Sphere().major = 1"),
             "test.lua:1: Sphere: unknown attribute 'major'");
   EXPECT_EQ(runLua("Plane().open = true"), "test.lua:1: Plane: unknown attribute 'open'");
-  EXPECT_EQ(runLua("SpotLight().angle = -1"),
-            "test.lua:1: SpotLight: attribute 'angle' expects an angle between 0 and 90 degrees, got -1");
+  EXPECT_EQ(
+      runLua("SpotLight().angle = -1"),
+      "test.lua:1: SpotLight: attribute 'angle' expects an angle between 0 and 90 degrees, got -1");
   EXPECT_EQ(runLua("local s = SpotLight() { falloff = 91 }"),
             "test.lua:1: SpotLight: attribute 'falloff' expects an angle between 0 and 90 degrees, "
             "got 91");
@@ -75,10 +80,11 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
             "test.lua:1: SpotLight: attribute 'angle' expects a number, got string");
   EXPECT_EQ(runLua("SpotLight().rows = 2"), "test.lua:1: SpotLight: unknown attribute 'rows'");
   EXPECT_EQ(runLua("Light().falloff = 2"), "test.lua:1: Light: unknown attribute 'falloff'");
-  EXPECT_EQ(runLua("Perspective().fov = 180"),
-            "test.lua:1: Perspective: attribute 'fov' expects an angle between 0 and 180 degrees, got 180");
-  EXPECT_EQ(runLua("local c = Perspective(0)"),
-            "test.lua:1: Perspective: argument 1 expects an angle between 0 and 180 degrees, got 0");
+  EXPECT_EQ(runLua("Perspective().fov = 180"), "test.lua:1: Perspective: attribute 'fov' expects "
+                                               "an angle between 0 and 180 degrees, got 180");
+  EXPECT_EQ(
+      runLua("local c = Perspective(0)"),
+      "test.lua:1: Perspective: argument 1 expects an angle between 0 and 180 degrees, got 0");
   // Whole numbers given as floats are accepted.
   EXPECT_EQ(runLua("scene_info = SceneInfo() { frames = 4.0 }"), "");
   EXPECT_EQ(num("scene_info.frames"), 4);
@@ -100,7 +106,10 @@ TEST_F(BindingErrorTest, TextureMapsMustMatchThePigmentDimension) {
 
 TEST_F(BindingErrorTest, MissingImageNamesThePath) {
   std::string error = runLua("local p = ImagePigment2D('no_such_image.png')");
-  EXPECT_EQ(error.rfind("test.lua:1: ImagePigment2D: cannot read image 'no_such_image.png' (looked for /", 0), 0u)
+  EXPECT_EQ(
+      error.rfind("test.lua:1: ImagePigment2D: cannot read image 'no_such_image.png' (looked for /",
+                  0),
+      0u)
       << error;
   EXPECT_EQ(runLua("local p = ImagePigment2D()"),
             "test.lua:1: ImagePigment2D: argument 1 expects a string, got no value");
@@ -108,14 +117,16 @@ TEST_F(BindingErrorTest, MissingImageNamesThePath) {
 
 TEST_F(BindingErrorTest, MalformedMeshDataNamesTheEntryOrFace) {
   EXPECT_EQ(runLua("Mesh().vertices = {{0, 0, 0}, {1, 0}}"),
-            "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a table of 2 values");
+            "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a "
+            "table of 2 values");
   EXPECT_EQ(runLua("Mesh().vertices = {{0, 0, 0}, {1, 0, 0/0}}").rfind(
                 "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a "
                 "table holding the non-finite number ", 0),
             0u);
-  EXPECT_EQ(runLua("Mesh().vertices = {{0, 0, 0}, {1, 0, math.huge}}"),
-            "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a table "
-            "holding the non-finite number inf");
+  EXPECT_EQ(
+      runLua("Mesh().vertices = {{0, 0, 0}, {1, 0, math.huge}}"),
+      "test.lua:1: Mesh: attribute 'vertices' expects a list of {x, y, z}, entry 2 is a table "
+      "holding the non-finite number inf");
   // Finite as a double but not as the float the mesh is stored in.
   EXPECT_EQ(runLua("Mesh().normals = {{0, 1e39, 0}}"),
             "test.lua:1: Mesh: attribute 'normals' expects a list of {x, y, z}, entry 1 is a table "
@@ -127,15 +138,18 @@ TEST_F(BindingErrorTest, MalformedMeshDataNamesTheEntryOrFace) {
   EXPECT_EQ(runLua("Mesh().indices = {{1, 2, 3}, {1, 2}}"),
             "test.lua:1: Mesh: attribute 'indices': face 2 has 2 corners, needs at least 3");
   EXPECT_EQ(runLua("Mesh().indices = {{1, 2, 3}, {1, 'b', 3}}"),
-            "test.lua:1: Mesh: attribute 'indices': face 2, corner 2 must be an index or {v, uv, n}, got string");
-  EXPECT_EQ(runLua("Mesh().indices = {{1, 2, 0}}"),
-            "test.lua:1: Mesh: attribute 'indices': face 1, corner 3: vertex index must be a positive "
-            "integer, got 0");
+            "test.lua:1: Mesh: attribute 'indices': face 2, corner 2 must be an index or {v, uv, "
+            "n}, got string");
+  EXPECT_EQ(
+      runLua("Mesh().indices = {{1, 2, 0}}"),
+      "test.lua:1: Mesh: attribute 'indices': face 1, corner 3: vertex index must be a positive "
+      "integer, got 0");
   EXPECT_EQ(runLua("Mesh().indices = {{1, 2, {3, 1.5}}}"),
             "test.lua:1: Mesh: attribute 'indices': face 1, corner 3: uv index must be a positive "
             "integer, got 1.5");
-  EXPECT_EQ(runLua("Mesh().indices = {{1, 2, {3, 1, 1, 1}}}"),
-            "test.lua:1: Mesh: attribute 'indices': face 1, corner 3 has more than 3 entries {v, uv, n}");
+  EXPECT_EQ(
+      runLua("Mesh().indices = {{1, 2, {3, 1, 1, 1}}}"),
+      "test.lua:1: Mesh: attribute 'indices': face 1, corner 3 has more than 3 entries {v, uv, n}");
 }
 
 TEST_F(BindingErrorTest, OutOfRangeMeshIndexNamesTheMeshLineAndFace) {
@@ -148,16 +162,19 @@ TEST_F(BindingErrorTest, OutOfRangeMeshIndexNamesTheMeshLineAndFace) {
     convertGlobal("s");
     FAIL() << "expected a SceneError";
   } catch (const SceneError &e) {
-    EXPECT_STREQ(e.what(), "test.lua:2: Mesh: face 2, corner 3: vertex index 4 is out of range (3 vertices)");
+    EXPECT_STREQ(e.what(),
+                 "test.lua:2: Mesh: face 2, corner 3: vertex index 4 is out of range (3 vertices)");
   }
-  ASSERT_EQ(runLua("s = Scene(); s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},\n"
-                   "  uvs = {{0, 0}}, indices = {{{1, 1}, {2, 2}, {3, 1}}} })"),
-            "");
+  ASSERT_EQ(
+      runLua("s = Scene(); s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},\n"
+             "  uvs = {{0, 0}}, indices = {{{1, 1}, {2, 2}, {3, 1}}} })"),
+      "");
   try {
     convertGlobal("s");
     FAIL() << "expected a SceneError";
   } catch (const SceneError &e) {
-    EXPECT_STREQ(e.what(), "test.lua:1: Mesh: face 1, corner 2: uv index 2 is out of range (1 uvs)");
+    EXPECT_STREQ(e.what(),
+                 "test.lua:1: Mesh: face 1, corner 2: uv index 2 is out of range (1 uvs)");
   }
   ASSERT_EQ(runLua("s = Scene()\ns:add_entity(Mesh())"), "");
   try {
@@ -174,9 +191,11 @@ TEST_F(BindingErrorTest, SceneMethodsCheckTheirArguments) {
             "Cube, Mesh, Plane, Torus, Union, Merge, Intersection or Difference), got Light");
   EXPECT_EQ(runLua("Scene():add_entities({Sphere(), 3})"),
             "test.lua:1: Scene:add_entities: argument 1, entry 2 expects an entity (Sphere, "
-            "Cylinder, Cone, Cube, Mesh, Plane, Torus, Union, Merge, Intersection or Difference), got number");
-  EXPECT_EQ(runLua("Scene():add_light(Sphere())"),
-            "test.lua:1: Scene:add_light: argument 1 expects a light (Light or SpotLight), got Sphere");
+            "Cylinder, Cone, Cube, Mesh, Plane, Torus, Union, Merge, Intersection or Difference), "
+            "got number");
+  EXPECT_EQ(
+      runLua("Scene():add_light(Sphere())"),
+      "test.lua:1: Scene:add_light: argument 1 expects a light (Light or SpotLight), got Sphere");
   EXPECT_EQ(runLua("Scene():add_lights(Light())"),
             "test.lua:1: Scene:add_lights: argument 1 expects a list, got Light");
   EXPECT_EQ(runLua("Scene().add_light(Light())"),
@@ -184,8 +203,10 @@ TEST_F(BindingErrorTest, SceneMethodsCheckTheirArguments) {
 }
 
 TEST_F(BindingErrorTest, ErrorsInsideFunctionsNameTheCallingLineAndCarryATraceback) {
-  std::string full = runLuaFull("local function make()\n  return Finish() { diffuse = true }\nend\nmake()");
-  EXPECT_EQ(full.rfind("test.lua:2: Finish: attribute 'diffuse' expects a number, got boolean", 0), 0u)
+  std::string full =
+      runLuaFull("local function make()\n  return Finish() { diffuse = true }\nend\nmake()");
+  EXPECT_EQ(full.rfind("test.lua:2: Finish: attribute 'diffuse' expects a number, got boolean", 0),
+            0u)
       << full;
   EXPECT_NE(full.find("stack traceback:"), std::string::npos) << full;
   EXPECT_NE(full.find("test.lua:4:"), std::string::npos) << full;
@@ -202,20 +223,25 @@ TEST_F(BindingErrorTest, ForeignUserdataIsNotMistakenForAnObject) {
 using SandboxTest = LuaFixture;
 
 TEST_F(SandboxTest, OnlySafeLibrariesAreOpen) {
-  EXPECT_TRUE(truth("os.execute == nil and os.remove == nil and os.rename == nil and os.exit == nil"));
+  EXPECT_TRUE(
+      truth("os.execute == nil and os.remove == nil and os.rename == nil and os.exit == nil"));
   EXPECT_TRUE(truth("io.popen == nil and io.write == nil and io.output == nil"));
   EXPECT_TRUE(truth("require == nil and package == nil and debug == nil"));
-  EXPECT_TRUE(truth("type(os.clock()) == 'number' and type(os.time()) == 'number' and type(os.date()) == 'string'"));
-  EXPECT_TRUE(truth("math.sqrt(4) == 2 and string.rep('a', 2) == 'aa' and utf8.char(65) == 'A' and table.concat({1, 2}) == '12'"));
+  EXPECT_TRUE(truth("type(os.clock()) == 'number' and type(os.time()) == 'number' and "
+                    "type(os.date()) == 'string'"));
+  EXPECT_TRUE(truth("math.sqrt(4) == 2 and string.rep('a', 2) == 'aa' and utf8.char(65) == 'A' and "
+                    "table.concat({1, 2}) == '12'"));
 }
 
 TEST_F(SandboxTest, FilesOpenOnlyForReadingRelativeToTheScript) {
   EXPECT_TRUE(truth("io.open('lua_fixture.h'):read('l'):find('Test fixture') ~= nil"));
   EXPECT_TRUE(truth("io.lines('lua_fixture.h')() ~= nil"));
-  EXPECT_EQ(runLua("io.open('x.txt', 'w')"),
-            "test.lua:1: io.open: only read mode is allowed in scene scripts (--unsafe lifts this)");
-  EXPECT_EQ(runLua("io.open('x.txt', 'a+')"),
-            "test.lua:1: io.open: only read mode is allowed in scene scripts (--unsafe lifts this)");
+  EXPECT_EQ(
+      runLua("io.open('x.txt', 'w')"),
+      "test.lua:1: io.open: only read mode is allowed in scene scripts (--unsafe lifts this)");
+  EXPECT_EQ(
+      runLua("io.open('x.txt', 'a+')"),
+      "test.lua:1: io.open: only read mode is allowed in scene scripts (--unsafe lifts this)");
 }
 
 TEST_F(SandboxTest, LoadAcceptsTextButNotBinaryChunks) {

@@ -99,7 +99,8 @@ TEST_F(SceneConverterTest, PigmentTableIsBottomUp) {
   ASSERT_EQ(runLua("s = Scene()\n"
                    "inner = CheckerPigment3D() { pigment1 = ColorPigment(red) }\n"
                    "outer = CheckerPigment2D() { pigment1 = inner, pigment2 = ColorPigment(blue),\n"
-                   "  texture_map = UVMap() { scale_s = 2, scale_t = 3, translate_s = 0.5, translate_t = 0.25 } }\n"
+                   "  texture_map = UVMap() { scale_s = 2, scale_t = 3, translate_s = 0.5, "
+                   "translate_t = 0.25 } }\n"
                    "s:add_entity(Sphere() { texture = Texture() { pigment = outer } })"),
             "");
   Scene scene = convertGlobal("s");
@@ -119,7 +120,9 @@ TEST_F(SceneConverterTest, PigmentTableIsBottomUp) {
   const auto &innerChecker = std::get<CheckerPigment3D>(inner.pattern);
   EXPECT_EQ(inner.map.kind, TextureMap::Kind::TextureMap3D);
   EXPECT_LT(innerChecker.pigment1, topChecker.pigment1);
-  auto colorOf = [&](uint32_t i) { return std::get<ColorPigment>(scene.pigments[i].pattern).color; };
+  auto colorOf = [&](uint32_t i) {
+    return std::get<ColorPigment>(scene.pigments[i].pattern).color;
+  };
   EXPECT_EQ(colorOf(innerChecker.pigment1), Color(1, 0, 0));
   EXPECT_EQ(colorOf(innerChecker.pigment2), Color(1, 1, 1)); // default white
   EXPECT_EQ(colorOf(topChecker.pigment2), Color(0, 0, 1));
@@ -128,10 +131,14 @@ TEST_F(SceneConverterTest, PigmentTableIsBottomUp) {
 TEST_F(SceneConverterTest, NoisePigmentsAndMaps) {
   ASSERT_EQ(runLua("s = Scene()\n"
                    "s:add_entity(Sphere() { texture = Texture() { pigment = MarblePigment3D() {\n"
-                   "  color1 = red, power = 3, size = 0.1, texture_map = LinearMap() { transform = Scale(2) } } } })\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = WoodPigment3D() { period = Vector(1, 2, 3) } } })\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = CheckerPigment2D() { texture_map = SphericalMap() } } })\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = CheckerPigment2D() { texture_map = CylindricalMap() } } })"),
+                   "  color1 = red, power = 3, size = 0.1, texture_map = LinearMap() { transform = "
+                   "Scale(2) } } } })\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = WoodPigment3D() { "
+                   "period = Vector(1, 2, 3) } } })\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = CheckerPigment2D() { "
+                   "texture_map = SphericalMap() } } })\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = CheckerPigment2D() { "
+                   "texture_map = CylindricalMap() } } })"),
             "");
   Scene scene = convertGlobal("s");
   const Pigment &marble = scene.pigments[scene.textures[0].pigment];
@@ -158,8 +165,10 @@ TEST_F(SceneConverterTest, NoisePigmentsAndMaps) {
 TEST_F(SceneConverterTest, ImagesResolveAgainstTheScriptFolderAndAreShared) {
   reset(LRAY_SOURCE_DIR "/scenes");
   ASSERT_EQ(runLua("s = Scene()\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = ImagePigment2D('texture.png') } })\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = ImagePigment2D('./texture.png') } })"),
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = "
+                   "ImagePigment2D('texture.png') } })\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = "
+                   "ImagePigment2D('./texture.png') } })"),
             "");
   Scene scene = convertGlobal("s");
   ASSERT_EQ(scene.images.size(), 1u);

@@ -64,12 +64,15 @@ TEST(SceneScriptTest, SceneInfoAndTheClockReachTheScene) {
 TEST(SceneScriptTest, MaxPixelsCapsWidthTimesHeightTimesSamplesSquared) {
   ScriptOptions options;
   options.maxPixels = 1000;
-  std::string source = "local a = 1\nscene_info = SceneInfo() { image_width = 20, image_height = 10, samples = 3 }\n";
-  EXPECT_EQ(errorOf([&] { SceneScript::fromString(source + kMinimal, "test.lua", ".", options); }),
-            "test.lua:2: SceneInfo: image_width * image_height * samples^2 = 1800 exceeds the limit "
-            "of 1000 (raise it with --max-pixels)");
+  std::string source = "local a = 1\nscene_info = SceneInfo() { image_width = 20, image_height = "
+                       "10, samples = 3 }\n";
+  EXPECT_EQ(
+      errorOf([&] { SceneScript::fromString(source + kMinimal, "test.lua", ".", options); }),
+      "test.lua:2: SceneInfo: image_width * image_height * samples^2 = 1800 exceeds the limit "
+      "of 1000 (raise it with --max-pixels)");
   options.maxPixels = 1800;
-  EXPECT_EQ(errorOf([&] { SceneScript::fromString(source + kMinimal, "test.lua", ".", options); }), "");
+  EXPECT_EQ(errorOf([&] { SceneScript::fromString(source + kMinimal, "test.lua", ".", options); }),
+            "");
 }
 
 TEST(SceneScriptTest, MaxLightSamplesCapsEachLightsShadowRaysPerPoint) {
@@ -102,12 +105,15 @@ TEST(SceneScriptTest, MaxLightSamplesCapsEachLightsShadowRaysPerPoint) {
 TEST(SceneScriptTest, ScriptLevelErrors) {
   EXPECT_EQ(errorOf([] { SceneScript::fromString("local x = 1", "test.lua"); }),
             "test.lua: the script must define a global function scene(clock) returning a Scene");
-  EXPECT_EQ(errorOf([] { SceneScript::fromString("scene_info = 3\n" + std::string(kMinimal), "test.lua"); }),
+  EXPECT_EQ(errorOf([] {
+              SceneScript::fromString("scene_info = 3\n" + std::string(kMinimal), "test.lua");
+            }),
             "test.lua: scene_info must be a SceneInfo, got number");
   EXPECT_EQ(errorOf([] { SceneScript::fromString("function scene(clock) end end", "test.lua"); }),
             "test.lua:1: <eof> expected near 'end'");
   SceneScript script = SceneScript::fromString("function scene(clock) return 42 end", "test.lua");
-  EXPECT_EQ(errorOf([&] { script.buildFrame(0); }), "test.lua: scene(clock) must return a Scene, got number");
+  EXPECT_EQ(errorOf([&] { script.buildFrame(0); }),
+            "test.lua: scene(clock) must return a Scene, got number");
 }
 
 TEST(SceneScriptTest, ErrorsInsideSceneCarryMessageAndTraceback) {
@@ -129,15 +135,16 @@ TEST(SceneScriptTest, ErrorsInsideSceneCarryMessageAndTraceback) {
 TEST(SceneScriptTest, TimeoutInsideScene) {
   ScriptOptions options;
   options.timeoutSeconds = 0.1;
-  SceneScript script =
-      SceneScript::fromString("function scene(clock)\n  while true do end\nend", "test.lua", ".", options);
+  SceneScript script = SceneScript::fromString("function scene(clock)\n  while true do end\nend",
+                                               "test.lua", ".", options);
   std::string error = errorOf([&] { script.buildFrame(0); });
   EXPECT_EQ(error.rfind("test.lua:2: the script ran longer than 0.1 seconds", 0), 0u) << error;
 }
 
 TEST(SceneScriptTest, AspectWarning) {
   SceneScript script = SceneScript::fromString(
-      "scene_info = SceneInfo() { image_width = 400, image_height = 400 }\n" + std::string(kMinimal),
+      "scene_info = SceneInfo() { image_width = 400, image_height = 400 }\n" +
+          std::string(kMinimal),
       "test.lua");
   script.buildFrame(0);
   ASSERT_EQ(script.warnings().size(), 1u);
@@ -150,12 +157,13 @@ TEST(SceneScriptTest, FilePathsResolveAgainstTheScriptFolder) {
   fs::create_directories(dir / "sub");
   std::ofstream(dir / "sub" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   std::ofstream(dir / "data.txt") << "7\n";
-  std::ofstream(dir / "scene.lua") << "local n = tonumber(io.lines('data.txt')())\n"
-                                      "local m = mesh_from_obj('sub/tri.obj')\n"
-                                      "function scene(clock)\n"
-                                      "  local s = Scene(); s:add_entity(m:copy() { transform = Translate(n * x) })\n"
-                                      "  return s\n"
-                                      "end\n";
+  std::ofstream(dir / "scene.lua")
+      << "local n = tonumber(io.lines('data.txt')())\n"
+         "local m = mesh_from_obj('sub/tri.obj')\n"
+         "function scene(clock)\n"
+         "  local s = Scene(); s:add_entity(m:copy() { transform = Translate(n * x) })\n"
+         "  return s\n"
+         "end\n";
   SceneScript script((dir / "scene.lua").string());
   Scene scene = script.buildFrame(0);
   ASSERT_EQ(scene.entities.size(), 1u);
@@ -165,7 +173,9 @@ TEST(SceneScriptTest, FilePathsResolveAgainstTheScriptFolder) {
 
   std::ofstream(dir / "bad.lua") << "\n\nlocal m = mesh_from_obj('nothing.obj')\n";
   EXPECT_EQ(errorOf([&] { SceneScript((dir / "bad.lua").string()); })
-                .rfind((dir / "bad.lua").string() + ":3: mesh_from_obj: nothing.obj: cannot open OBJ file", 0),
+                .rfind((dir / "bad.lua").string() +
+                           ":3: mesh_from_obj: nothing.obj: cannot open OBJ file",
+                       0),
             0u);
   EXPECT_EQ(errorOf([&] { SceneScript((dir / "missing.lua").string()); }),
             (dir / "missing.lua").string() + ": cannot open the scene file");
@@ -173,7 +183,8 @@ TEST(SceneScriptTest, FilePathsResolveAgainstTheScriptFolder) {
 }
 
 TEST(SceneScriptTest, MoveKeepsTheState) {
-  SceneScript a = SceneScript::fromString("scene_info = SceneInfo() { frames = 3 }\n" + std::string(kMinimal), "a.lua");
+  SceneScript a = SceneScript::fromString(
+      "scene_info = SceneInfo() { frames = 3 }\n" + std::string(kMinimal), "a.lua");
   SceneScript b = std::move(a);
   EXPECT_EQ(b.info().frames, 3);
   EXPECT_NO_THROW(b.buildFrame(0));

@@ -117,7 +117,8 @@ public:
     case 7: { // bulk call: obj { attr = value, ... }
       std::string s = "(" + expr(depth + 1) + ") {";
       int n = in_.ConsumeIntegralInRange(0, 3);
-      for (int i = 0; i < n; ++i) s += std::string(i ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
+      for (int i = 0; i < n; ++i)
+        s += std::string(i ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
       return s + " }";
     }
     case 8: return "{" + expr(depth + 1) + ", " + expr(depth + 1) + "}";
@@ -125,7 +126,8 @@ public:
       std::string s = std::string(pick(kCsgClasses)) + " {";
       int n = in_.ConsumeIntegralInRange(0, 3);
       for (int i = 0; i < n; ++i) s += std::string(i ? ", " : " ") + expr(depth + 1);
-      if (in_.ConsumeBool()) s += std::string(n ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
+      if (in_.ConsumeBool())
+        s += std::string(n ? ", " : " ") + pick(kAttributes) + " = " + expr(depth + 1);
       return s + " }";
     }
     default: return leaf();
@@ -148,7 +150,9 @@ public:
     case 2: return variable() + "." + pick(kAttributes) + " = " + expr(0);
     case 3: return "S:add_entity(" + expr(0) + ")";
     case 4: return "S:add_light(" + expr(0) + ")";
-    case 5: return "S." + std::string(in_.ConsumeBool() ? "camera" : "background_color") + " = " + expr(0);
+    case 5:
+      return "S." + std::string(in_.ConsumeBool() ? "camera" : "background_color") + " = " +
+             expr(0);
     case 6: return "scene_info = " + expr(0);
     default: return "S:add_entities({" + expr(0) + ", " + expr(0) + "})";
     }
@@ -161,8 +165,12 @@ private:
   FuzzedDataProvider &in_;
 };
 
-bool finite(const lray::Vec3 &v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-bool finite(const lray::Color &c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+bool finite(const lray::Vec3 &v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+bool finite(const lray::Color &c) {
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
+}
 bool finite(const lray::Transform &t) {
   for (const auto &row : t.matrix().m)
     for (double x : row)
@@ -180,7 +188,8 @@ void check(bool ok) {
 /// Nothing non-finite may reach the scene model (it would become NaN pixels).
 void checkScene(const lray::Scene &s) {
   check(finite(s.background));
-  check(finite(s.camera.worldFromCamera) && std::isfinite(s.camera.fov) && std::isfinite(s.camera.aspect));
+  check(finite(s.camera.worldFromCamera) && std::isfinite(s.camera.fov) &&
+        std::isfinite(s.camera.aspect));
   for (const lray::Entity &e : s.entities) {
     check(finite(e.worldFromObject));
     if (const auto *csg = std::get_if<lray::Csg>(&e.shape)) {
@@ -231,7 +240,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   // it costs nothing. (A cap of 4096 pixels made the default 800x600
   // SceneInfo fail every input before buildFrame.)
   try {
-    lray::SceneScript script = lray::SceneScript::fromString(source, "fuzz.lua", baseDir(), options);
+    lray::SceneScript script =
+        lray::SceneScript::fromString(source, "fuzz.lua", baseDir(), options);
     lray::Scene scene = script.buildFrame(script.info().startClock);
     checkScene(scene);
   } catch (const lray::SceneError &) {

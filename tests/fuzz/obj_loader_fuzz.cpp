@@ -13,7 +13,9 @@
 
 namespace {
 
-bool finite(const lray::Vec3f &v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const lray::Vec3f &v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 void check(bool ok) {
   if (!ok) std::abort();

@@ -30,7 +30,8 @@ double magnitude(FuzzedDataProvider &in) {
 }
 
 Vec3 vec(FuzzedDataProvider &in, double range) {
-  return {in.ConsumeFloatingPointInRange(-range, range), in.ConsumeFloatingPointInRange(-range, range),
+  return {in.ConsumeFloatingPointInRange(-range, range),
+          in.ConsumeFloatingPointInRange(-range, range),
           in.ConsumeFloatingPointInRange(-range, range)};
 }
 
@@ -42,11 +43,14 @@ Transform transform(FuzzedDataProvider &in) {
     switch (in.ConsumeIntegralInRange(0, 2)) {
     case 0: s = Transform::translate({magnitude(in), magnitude(in), magnitude(in)}); break;
     case 1: {
-      double sx = std::fabs(magnitude(in)), sy = std::fabs(magnitude(in)), sz = std::fabs(magnitude(in));
+      double sx = std::fabs(magnitude(in)), sy = std::fabs(magnitude(in)),
+             sz = std::fabs(magnitude(in));
       s = Transform::scale(sx > 0 ? sx : 1, sy > 0 ? sy : 1, sz > 0 ? sz : 1);
       break;
     }
-    default: s = Transform::rotate(vec(in, 1), in.ConsumeFloatingPointInRange(-360.0, 360.0)); break;
+    default:
+      s = Transform::rotate(vec(in, 1), in.ConsumeFloatingPointInRange(-360.0, 360.0));
+      break;
     }
     if (!s.singular()) t = s * t;
   }
@@ -60,7 +64,8 @@ lray::MeshDataPtr mesh(FuzzedDataProvider &in) {
   for (int i = 0; i < nv; ++i) {
     Vec3 p = vec(in, range);
     // Some vertices repeated exactly: zero-area and sliver triangles.
-    if (i > 0 && in.ConsumeIntegralInRange(0, 3) == 0) p = {src.positions[i - 1].x, src.positions[i - 1].y, src.positions[i - 1].z};
+    if (i > 0 && in.ConsumeIntegralInRange(0, 3) == 0)
+      p = {src.positions[i - 1].x, src.positions[i - 1].y, src.positions[i - 1].z};
     src.positions.push_back({float(p.x), float(p.y), float(p.z)});
   }
   if (in.ConsumeBool()) src.normals.push_back({0, 0, in.ConsumeBool() ? 1.f : 0.f});
@@ -122,7 +127,8 @@ void csgChildren(FuzzedDataProvider &in, lray::CsgTree &tree, uint32_t node, con
 
 lray::Shape csg(FuzzedDataProvider &in, uint32_t textures) {
   auto tree = std::make_shared<lray::CsgTree>();
-  tree->addNode(static_cast<lray::CsgOp>(in.ConsumeIntegralInRange(0, 3)), lray::CsgTree::kNoParent);
+  tree->addNode(static_cast<lray::CsgOp>(in.ConsumeIntegralInRange(0, 3)),
+                lray::CsgTree::kNoParent);
   csgChildren(in, *tree, 0, transform(in), 0, textures);
   tree->finish();
   return lray::Csg{std::move(tree)};

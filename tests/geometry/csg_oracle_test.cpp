@@ -179,7 +179,8 @@ CsgSpec randomTree(std::mt19937_64 &rng, int depth, bool &hasPlane) {
                                ShapeKind::Plane};
     ShapeKind k = kinds[kind(rng)];
     CsgSpec leaf = leafSpec(k, randomPlacement(rng));
-    if (k == ShapeKind::Torus) std::get<Torus>(leaf.leaf.shape).minor = 0.2 + 0.3 * (kind(rng) / 9.0);
+    if (k == ShapeKind::Torus)
+      std::get<Torus>(leaf.leaf.shape).minor = 0.2 + 0.3 * (kind(rng) / 9.0);
     hasPlane = hasPlane || k == ShapeKind::Plane;
     children.push_back(std::move(leaf));
   }
@@ -196,8 +197,9 @@ TEST(CsgOracle, RandomTreesMatchPointClassificationOnBothBackends) {
     CsgSpec spec = randomTree(rng, 0, hasPlane);
     // Planes make a tree unbounded: clip it to a ball for the march.
     if (hasPlane)
-      spec = opSpec(CsgOp::Intersection, {leafSpec(ShapeKind::Sphere, Transform::scale(2.5, 2.5, 2.5)),
-                                          std::move(spec)});
+      spec =
+          opSpec(CsgOp::Intersection,
+                 {leafSpec(ShapeKind::Sphere, Transform::scale(2.5, 2.5, 2.5)), std::move(spec)});
     spec.transform = Transform::translate({u(rng), u(rng), u(rng)});
     Scene scene;
     scene.entities.push_back(test::csgEntity(spec));

@@ -23,7 +23,9 @@ using test::opSpec;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-Ray ray(const Vec3 &o, const Vec3 &d, double tMin = 0, double tMax = kInf) { return {o, d, tMin, tMax}; }
+Ray ray(const Vec3 &o, const Vec3 &d, double tMin = 0, double tMax = kInf) {
+  return {o, d, tMin, tMax};
+}
 
 bool hitOf(const Entity &e, const Ray &r, Hit &h) { return intersectShape(e, 7, r, h); }
 
@@ -152,10 +154,10 @@ TEST(Csg, DifferenceOfDifferencesAndTorusAndCone) {
   EXPECT_NEAR(h.t, 5 - 1.25, 1e-9);
   // A cone minus a smaller cone: a shell; from the apex side down the axis
   // the ray enters the outer cone's apex region then the hollow.
-  Entity shell = csgEntity(opSpec(
-      CsgOp::Difference,
-      {leafSpec(ShapeKind::Cone, Transform()),
-       leafSpec(ShapeKind::Cone, Transform::translate({0, -0.1, 0}) * Transform::scale(0.8, 1, 0.8))}));
+  Entity shell = csgEntity(
+      opSpec(CsgOp::Difference, {leafSpec(ShapeKind::Cone, Transform()),
+                                 leafSpec(ShapeKind::Cone, Transform::translate({0, -0.1, 0}) *
+                                                               Transform::scale(0.8, 1, 0.8))}));
   ASSERT_TRUE(hitOf(shell, ray({0.3, 5, 0}, {0, -1, 0}), h));
   EXPECT_NEAR(h.t, 5 - 0.7, 1e-9); // outer side at y = 1 - 0.3
   Hit h2;
@@ -178,15 +180,15 @@ TEST(Csg, CoincidentFacesGiveOneAnswer) {
   for (int trial = 0; trial < 20; ++trial) {
     const Transform rot = Transform::rotate({u(rng), u(rng), u(rng) + 2}, 180 * u(rng)) *
                           Transform::scale(1.7, 1.7, 1.7);
-    Entity diff = csgEntity(opSpec(
-        CsgOp::Difference,
-        {leafSpec(ShapeKind::Cube, Transform()),
-         leafSpec(ShapeKind::Cube, Transform::translate({0, 0, -0.25}) * Transform::scale(1, 1, 0.5))},
-        rot));
-    Entity merged = csgEntity(opSpec(
-        CsgOp::Merge,
-        {leafSpec(ShapeKind::Cube, Transform()), leafSpec(ShapeKind::Cube, Transform::translate({0, 0, 1}))},
-        rot));
+    Entity diff = csgEntity(opSpec(CsgOp::Difference,
+                                   {leafSpec(ShapeKind::Cube, Transform()),
+                                    leafSpec(ShapeKind::Cube, Transform::translate({0, 0, -0.25}) *
+                                                                  Transform::scale(1, 1, 0.5))},
+                                   rot));
+    Entity merged = csgEntity(opSpec(CsgOp::Merge,
+                                     {leafSpec(ShapeKind::Cube, Transform()),
+                                      leafSpec(ShapeKind::Cube, Transform::translate({0, 0, 1}))},
+                                     rot));
     const Vec3 axis = rot.applyVector({0, 0, 1});
     for (int i = 0; i < 500; ++i) {
       const Vec3 start = rot.applyPoint({0.45 * u(rng), 0.45 * u(rng), -3});
@@ -207,9 +209,9 @@ TEST(Csg, CoincidentFacesGiveOneAnswer) {
 // on both backends (Embree must not get an inverted box).
 TEST(Csg, AnEmptyResultIsNeverHitOnEitherBackend) {
   Scene s;
-  s.entities.push_back(csgEntity(opSpec(CsgOp::Intersection,
-                                        {leafSpec(ShapeKind::Sphere, Transform::translate({-3, 0, 5})),
-                                         leafSpec(ShapeKind::Sphere, Transform::translate({3, 0, 5}))})));
+  s.entities.push_back(csgEntity(
+      opSpec(CsgOp::Intersection, {leafSpec(ShapeKind::Sphere, Transform::translate({-3, 0, 5})),
+                                   leafSpec(ShapeKind::Sphere, Transform::translate({3, 0, 5}))})));
   s.entities.push_back(test::leafSpec(ShapeKind::Sphere, Transform::translate({0, 0, 9})).leaf);
   s.textures.push_back({});
   EXPECT_TRUE(shapeWorldBounds(s.entities[0]).empty());
@@ -233,7 +235,8 @@ TEST(Csg, SpawnedRaysLeaveTheSurface) {
       CsgOp::Difference,
       {opSpec(CsgOp::Intersection, {leafSpec(ShapeKind::Cube, Transform::scale(2, 2, 2)),
                                     leafSpec(ShapeKind::Sphere, Transform::scale(1.3, 1.3, 1.3))}),
-       leafSpec(ShapeKind::Cylinder, Transform::translate({0, -2, 0}) * Transform::scale(0.5, 4, 0.5))}));
+       leafSpec(ShapeKind::Cylinder,
+                Transform::translate({0, -2, 0}) * Transform::scale(0.5, 4, 0.5))}));
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1, 1);
   int hits = 0;

@@ -148,7 +148,8 @@ const std::string kScene = "\nfunction scene() return Scene() end\n";
 
 TEST_F(Hostile, ScriptMemoryIsCappedAndTheErrorNamesTheLine) {
   const std::string s =
-      write("mem.lua", "local t = {}\nfor i = 1, 1e9 do\n  t[i] = string.rep('x', 1000) .. i\nend" + kScene);
+      write("mem.lua",
+            "local t = {}\nfor i = 1, 1e9 do\n  t[i] = string.rep('x', 1000) .. i\nend" + kScene);
   expectRefused({s, out(), "--script-memory", "128M"}, 1,
                 "mem.lua:3: the script needed more than 128 MiB of memory and was stopped "
                 "(raise the limit with --script-memory)",
@@ -164,18 +165,20 @@ TEST_F(Hostile, MeshArraysCountAgainstTheScriptMemory) {
                     "  m.vertices = big\n  keep[i] = m\nend" + kScene);
   // Whichever allocation crosses the limit first, a mesh's arrays or a
   // Lua object, the error is blamed on the line that made the meshes.
-  const Outcome o = expectRefused({s, out(), "--script-memory", "256M"}, 1, "meshes.lua:6: ", 60, 600);
+  const Outcome o =
+      expectRefused({s, out(), "--script-memory", "256M"}, 1, "meshes.lua:6: ", 60, 600);
   EXPECT_NE(o.output.find("the script needed more than 256 MiB of memory"), std::string::npos)
       << o.output;
 }
 
 TEST_F(Hostile, AMeshRebuiltEveryFrameDoesNotAccumulateCharges) {
   // Meshes dropped by the script are uncharged when collected.
-  const std::string s = write(
-      "anim.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4, frames = 10 }\n"
-                  "local big = {}\nfor i = 1, 100000 do big[i] = {i, 0, 0} end\n"
-                  "function scene(clock)\n  for k = 1, 20 do local m = Mesh(); m.vertices = big end\n"
-                  "  collectgarbage()\n  return Scene()\nend\n");
+  const std::string s =
+      write("anim.lua",
+            "scene_info = SceneInfo() { image_width = 4, image_height = 4, frames = 10 }\n"
+            "local big = {}\nfor i = 1, 100000 do big[i] = {i, 0, 0} end\n"
+            "function scene(clock)\n  for k = 1, 20 do local m = Mesh(); m.vertices = big end\n"
+            "  collectgarbage()\n  return Scene()\nend\n");
   const Outcome o = runLray({s, out(), "-q", "--script-memory", "128M"}, 60);
   EXPECT_EQ(o.status, 0) << o.output;
 }
@@ -216,7 +219,8 @@ TEST_F(Hostile, LoadingManyBigChunksStaysWithinTheScriptMemory) {
                     "for i = 1, 300 do assert(load(body .. i))() end\n"
                     "for i = 1, 20000 do assert(load('return ' .. i .. ' + 0 -- ' .. i))() end\n"
                     "error('done')" + kScene);
-  const Outcome o = expectRefused({s, out(), "--script-memory", "64M"}, 1, "chunks.lua:4: done", 60, 150);
+  const Outcome o =
+      expectRefused({s, out(), "--script-memory", "64M"}, 1, "chunks.lua:4: done", 60, 150);
   (void)o;
 }
 
@@ -270,7 +274,8 @@ TEST_F(Hostile, ReadingBackABigMeshStaysWithinTheScriptMemory) {
 TEST_F(Hostile, AMetatableOnTheGlobalsIsNeverCalledByLray) {
   for (const char *index : {"function() error('boom') end", "function() while true do end end"}) {
     const std::string s = write("globals.lua", "function scene() return Scene() end\n"
-                                               "setmetatable(_G, {__index = " + std::string(index) + "})\n");
+                                               "setmetatable(_G, {__index = " +
+                                                   std::string(index) + "})\n");
     const Outcome o = runLray({s, out(), "-q", "-w", "4", "-H", "4", "--script-timeout", "2"}, 20);
     EXPECT_FALSE(o.timedOut) << index;
     EXPECT_EQ(o.status, 0) << index << ": " << o.output;
@@ -281,10 +286,12 @@ TEST_F(Hostile, AMetatableOnTheGlobalsIsNeverCalledByLray) {
 // objects' C++ parts: an LRay object it still holds reads as no object
 // (scripts/test runs this with the ASan lray too).
 TEST_F(Hostile, AnUnsafeFinalizerNeverSeesAFreedObject) {
-  const std::string s = write(
-      "late.lua", "local m = Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1, 0} } }\n"
-                  "keep = setmetatable({}, {__gc = function() local ok = pcall(function() return m.smooth end)\n"
-                  "  io.write(ok and 'read' or 'refused', '\\n') end})\n" + kScene.substr(1));
+  const std::string s =
+      write("late.lua", "local m = Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1, 0} } }\n"
+                        "keep = setmetatable({}, {__gc = function() local ok = pcall(function() "
+                        "return m.smooth end)\n"
+                        "  io.write(ok and 'read' or 'refused', '\\n') end})\n" +
+                            kScene.substr(1));
   const Outcome o = runLray({s, out(), "-q", "-w", "4", "-H", "4", "--unsafe"}, 20);
   EXPECT_FALSE(o.timedOut);
   EXPECT_EQ(o.status, 0) << o.output;
@@ -299,7 +306,8 @@ TEST_F(Hostile, OneHugeAllocationIsRefusedNamingTheScene) {
 }
 
 TEST_F(Hostile, DefaultScriptMemoryIsTwoGiB) {
-  const std::string s = write("grow.lua", "local t = {}\nfor i = 1, 1e9 do t[i] = ('y'):rep(4096) .. i end" + kScene);
+  const std::string s =
+      write("grow.lua", "local t = {}\nfor i = 1, 1e9 do t[i] = ('y'):rep(4096) .. i end" + kScene);
   expectRefused({s, out()}, 1, "grow.lua:2: the script needed more than 2 GiB of memory", 60, 2600);
 }
 
@@ -327,8 +335,8 @@ TEST_F(Hostile, AnEndlessLoopInSceneIsStoppedToo) {
 }
 
 TEST_F(Hostile, FinalizersAreRefusedSoNoneCanHangOrResurrect) {
-  const std::string s = write("gc.lua",
-                              "setmetatable({}, { __gc = function() while true do end end })" + kScene);
+  const std::string s =
+      write("gc.lua", "setmetatable({}, { __gc = function() while true do end end })" + kScene);
   expectRefused({s, out(), "--script-timeout", "1"}, 1,
                 "gc.lua:1: setmetatable: __gc finalizers are not allowed in scene scripts", 10);
 }
@@ -336,10 +344,12 @@ TEST_F(Hostile, FinalizersAreRefusedSoNoneCanHangOrResurrect) {
 TEST_F(Hostile, AFinalizerAddedAfterSetmetatableNeverRuns) {
   // Lua marks an object for finalization only at setmetatable: adding
   // __gc later is inert, and the render completes.
-  const std::string s = write(
-      "late.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }\n"
-                  "local mt = {}\nsetmetatable({}, mt)\nmt.__gc = function() while true do end end\n"
-                  "collectgarbage()" + kScene);
+  const std::string s =
+      write("late.lua",
+            "scene_info = SceneInfo() { image_width = 4, image_height = 4 }\n"
+            "local mt = {}\nsetmetatable({}, mt)\nmt.__gc = function() while true do end end\n"
+            "collectgarbage()" +
+                kScene);
   const Outcome o = runLray({s, out(), "--script-timeout", "1", "-q"}, 10);
   EXPECT_FALSE(o.timedOut);
   EXPECT_EQ(o.status, 0) << o.output;
@@ -352,11 +362,13 @@ TEST_F(Hostile, NoFinalizerCanBeSwappedIntoAFileOrAnLrayObject) {
   const std::string s = write(
       "swap.lua", "local f = io.open('swap.lua')\nlocal mt = getmetatable(f)\n"
                   "mt.__gc = function() while true do end end" + kScene);
-  expectRefused({s, out(), "--script-timeout", "1"}, 1, "swap.lua:3: attempt to index a nil value", 10);
+  expectRefused({s, out(), "--script-timeout", "1"}, 1, "swap.lua:3: attempt to index a nil value",
+                10);
   const std::string t = write(
       "swap2.lua", "local mt = getmetatable(Sphere())\n"
                    "mt.__gc = function() while true do end end" + kScene);
-  expectRefused({t, out(), "--script-timeout", "1"}, 1, "swap2.lua:2: attempt to index a nil value", 10);
+  expectRefused({t, out(), "--script-timeout", "1"}, 1, "swap2.lua:2: attempt to index a nil value",
+                10);
 }
 
 TEST_F(Hostile, DeeplyNestedPigmentsAreAnErrorNotACrash) {
@@ -371,11 +383,13 @@ TEST_F(Hostile, DeeplyNestedPigmentsAreAnErrorNotACrash) {
 
 TEST_F(Hostile, DeeplyNestedCsgIsAnErrorNotACrash) {
   for (const char *op : {"Union", "Difference"}) {
-    const std::string s = write(
-        "csg.lua", std::string("local u = Sphere()\nfor i = 1, 100000 do\n  u = ") + op +
-                       " { u, Cube() }\nend\n"
-                       "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
-    expectRefused({s, out()}, 1, "csg.lua:3: " + std::string(op) + ": CSG nodes are nested more than 64 deep", 20);
+    const std::string s =
+        write("csg.lua",
+              std::string("local u = Sphere()\nfor i = 1, 100000 do\n  u = ") + op +
+                  " { u, Cube() }\nend\n"
+                  "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+    expectRefused({s, out()}, 1,
+                  "csg.lua:3: " + std::string(op) + ": CSG nodes are nested more than 64 deep", 20);
   }
 }
 
@@ -383,13 +397,15 @@ TEST_F(Hostile, ASharedUnionThatDoublesFortyTimesIsRefused) {
   const std::string s = write(
       "double.lua", "local u = Sphere()\nfor i = 1, 40 do u = Union { u, u } end\n"
                     "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
-  expectRefused({s, out()}, 1, "double.lua:2: Union: expands to more than 2097152 solids", 30, 1500);
+  expectRefused({s, out()}, 1, "double.lua:2: Union: expands to more than 2097152 solids", 30,
+                1500);
 }
 
 TEST_F(Hostile, AHugeCsgTreeIsRefusedNamingTheLine) {
   const std::string s = write(
-      "big.lua", "local list = {}\nfor i = 1, 200000 do list[i] = Sphere() end\n"
-                 "function scene()\n  local s = Scene()\n  s:add_entity(Merge(list))\n  return s\nend\n");
+      "big.lua",
+      "local list = {}\nfor i = 1, 200000 do list[i] = Sphere() end\n"
+      "function scene()\n  local s = Scene()\n  s:add_entity(Merge(list))\n  return s\nend\n");
   expectRefused({s, out()}, 1, "big.lua:5: Merge: ", 20);
 }
 
@@ -427,10 +443,11 @@ TEST_F(Hostile, AFolderGivenAsAnObjIsRefusedNamingThePath) {
 TEST_F(Hostile, OversizedSceneAndObjFilesAreRefusedBeforeReading) {
   std::ofstream(dir_ / "big.obj") << std::string(5000, '#') << "\n";
   const std::string s = write("bo.lua", "\nlocal m = mesh_from_obj('big.obj')" + kScene);
-  expectRefused({s, out(), "--max-file-size", "4K"}, 1,
-                "bo.lua:2: mesh_from_obj: big.obj: 5001 bytes, more than the limit of 4096 (raise it "
-                "with --max-file-size)",
-                10);
+  expectRefused(
+      {s, out(), "--max-file-size", "4K"}, 1,
+      "bo.lua:2: mesh_from_obj: big.obj: 5001 bytes, more than the limit of 4096 (raise it "
+      "with --max-file-size)",
+      10);
   const std::string t = write("long.lua", "-- " + std::string(5000, 'x') + kScene);
   expectRefused({t, out(), "--max-file-size", "4K"}, 1,
                 "long.lua: " + std::to_string(fs::file_size(t)) +
@@ -548,7 +565,8 @@ TEST_F(Hostile, BinaryChunksAndOutsideFilesAreRefusedEvenWithEveryGlobalReplaced
   fs::remove_all(out());
   const std::string f = write("lf.lua", kEveryGlobalReplaced + "local g = dofl('/etc/passwd')\n");
   expectRefused({f, out()}, 1, "lf.lua:10: loadfile: '/etc/passwd'", 10);
-  const std::string l = write("li.lua", kEveryGlobalReplaced + "for x in lines('/etc/passwd') do end\n");
+  const std::string l =
+      write("li.lua", kEveryGlobalReplaced + "for x in lines('/etc/passwd') do end\n");
   expectRefused({l, out()}, 1, "li.lua:10: io.lines: '/etc/passwd'", 10);
   const std::string n = write("ln.lua", kEveryGlobalReplaced + "for x in lines() do end\n");
   expectRefused({n, out()}, 1, "ln.lua:10: io.lines: a file name is required", 10);
@@ -614,7 +632,8 @@ TEST_F(Hostile, AFolderGivenAsTheSceneIsRefused) {
 
 TEST_F(Hostile, ZeroAndNegativeOptionValuesAreReadable) {
   const std::string s = write("z.lua", kScene);
-  for (const char *option : {"--threads", "--width", "--samples", "--script-timeout", "--max-pixels"})
+  for (const char *option :
+       {"--threads", "--width", "--samples", "--script-timeout", "--max-pixels"})
     expectRefused({s, out(), option, "0"}, 2, "expects a positive number, got '0'", 10);
   expectRefused({s, out(), "--script-memory", "lots"}, 2,
                 "--script-memory: expects a size such as 512M or 4G, got 'lots'", 10);
@@ -622,7 +641,8 @@ TEST_F(Hostile, ZeroAndNegativeOptionValuesAreReadable) {
 }
 
 TEST_F(Hostile, AnUnwritableStatsPathLeavesNoTemporaryFile) {
-  const std::string s = write("st.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const std::string s =
+      write("st.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
   fs::create_directories(dir_ / "stats.json" / "inside");
   Outcome o = runLray({s, out(), "-q", "--stats", (dir_ / "stats.json").string()}, 10);
   EXPECT_EQ(o.status, 1) << o.output;
@@ -669,12 +689,15 @@ TEST_F(Hostile, ReadingADeviceOrAFolderWithIoOpenIsRefused) {
   const std::string s = write("dv.lua", "local f = io.open('sub')" + kScene);
   expectRefused({s, out()}, 1, "dv.lua:1: io.open: 'sub' is not a regular file", 10);
   const std::string z = write("z.lua", "local f = io.open('/dev/zero')" + kScene);
-  expectRefused({z, out(), "--allow-read", "/dev"}, 1, "z.lua:1: io.open: '/dev/zero' is not a regular file", 10);
+  expectRefused({z, out(), "--allow-read", "/dev"}, 1,
+                "z.lua:1: io.open: '/dev/zero' is not a regular file", 10);
 }
 
 TEST_F(Hostile, UnsafeLiftsTheConfinement) {
-  const std::string s = write("us.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }\n"
-                                        "local f = assert(io.open('/etc/passwd'))\nf:close()" + kScene);
+  const std::string s =
+      write("us.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }\n"
+                      "local f = assert(io.open('/etc/passwd'))\nf:close()" +
+                          kScene);
   const Outcome o = runLray({s, out(), "-q", "--unsafe"}, 10);
   EXPECT_EQ(o.status, 0) << o.output;
 }
@@ -703,7 +726,8 @@ TEST_F(Hostile, AnOverflowingSampleCountIsReportedAsItsValue) {
 }
 
 TEST_F(Hostile, AHugePixelLimitIsNoLimitNotZero) {
-  const std::string s = write("p.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const std::string s =
+      write("p.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
   const Outcome o = runLray({s, out(), "--max-pixels", "1e300", "-q"}, 10);
   EXPECT_EQ(o.status, 0) << o.output;
 }
@@ -748,8 +772,10 @@ TEST_F(Hostile, AHugeErrorMessageIsCutShort) {
 }
 
 TEST_F(Hostile, EscapeSequencesAndInvalidUtf8NeverReachTheTerminal) {
-  const std::string s = write("esc.lua", "error('\\27[2J\\27]0;pwned\\7 \\255\\194\\155 ok \\u{e9}')" + kScene);
-  const Outcome o = expectRefused({s, out()}, 1, "esc.lua:1: \\x1b[2J\\x1b]0;pwned\\x07 \\xff\\u009b ok \xc3\xa9", 10);
+  const std::string s =
+      write("esc.lua", "error('\\27[2J\\27]0;pwned\\7 \\255\\194\\155 ok \\u{e9}')" + kScene);
+  const Outcome o = expectRefused(
+      {s, out()}, 1, "esc.lua:1: \\x1b[2J\\x1b]0;pwned\\x07 \\xff\\u009b ok \xc3\xa9", 10);
   EXPECT_EQ(o.output.find('\x1b'), std::string::npos);
   EXPECT_EQ(o.output.find('\x07'), std::string::npos);
   // A path with them, named in a message, is escaped the same way.
@@ -800,7 +826,8 @@ TEST_F(Hostile, AnImageThroughALinkToADeviceIsWrittenThroughNotReplaced) {
 }
 
 TEST_F(Hostile, StatsThroughALinkToDevNullLeaveTheDeviceAlone) {
-  const std::string s = write("st.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const std::string s =
+      write("st.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
   const fs::path link = dir_ / "stats.json";
   fs::create_symlink("/dev/null", link);
   const Outcome o = runLray({s, out(), "-q", "--stats", link.string()}, 20);
@@ -818,7 +845,8 @@ TEST_F(Hostile, StatsThroughALinkToDevNullLeaveTheDeviceAlone) {
 }
 
 TEST_F(Hostile, StatsThroughALinkToAFileReplaceTheFileAndKeepTheLink) {
-  const std::string s = write("sl.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const std::string s =
+      write("sl.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
   write("real.json", "old");
   const fs::path link = dir_ / "stats.json";
   fs::create_symlink(dir_ / "real.json", link);
@@ -831,7 +859,8 @@ TEST_F(Hostile, StatsThroughALinkToAFileReplaceTheFileAndKeepTheLink) {
 }
 
 TEST_F(Hostile, AFolderInTheWayOfAnImageIsNamed) {
-  const std::string s = write("fo.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
+  const std::string s =
+      write("fo.lua", "scene_info = SceneInfo() { image_width = 4, image_height = 4 }" + kScene);
   fs::create_directories(fs::path(out()) / "fo.png" / "inside");
   const Outcome o = runLray({s, out(), "-q"}, 20);
   EXPECT_EQ(o.status, 1) << o.output;
@@ -883,7 +912,8 @@ TEST_F(Hostile, ATileClaimingAHugeFrameIsRefusedBeforeAllocating) {
 }
 
 TEST_F(Hostile, OneBadTileLeavesTheGoodSetsToMergeAndIsNamed) {
-  const std::string s = write("good.lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
+  const std::string s =
+      write("good.lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
   ASSERT_EQ(runLray({s, out(), "-q", "--tile", "0/2"}, 20).status, 0);
   ASSERT_EQ(runLray({s, out(), "-q", "--tile", "1/2"}, 20).status, 0);
   writeCraftedTile(fs::path(out()) / "bad.tile-0-of-1.exr", 8, 8, 0, 0, 8, 8, 16, "bad.png");
@@ -917,7 +947,8 @@ TEST_F(Hostile, ATileNamingItselfAsItsFrameIsRefusedAndKept) {
 TEST_F(Hostile, TilesOfScenesNamedWithADotOrANewlineMerge) {
   for (const std::string name : {".dot", "new\nline"}) {
     SCOPED_TRACE(name);
-    const std::string s = write(name + ".lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
+    const std::string s = write(
+        name + ".lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);
     const std::string folder = (dir_ / ("out" + std::to_string(name.size()))).string();
     ASSERT_EQ(runLray({s, folder, "-q", "--tile", "0/2"}, 20).status, 0);
     ASSERT_EQ(runLray({s, folder, "-q", "--tile", "1/2"}, 20).status, 0);

@@ -53,8 +53,10 @@ OIIO::ImageBuf filmToBuf(const Film &film, bool floatImage) {
 }
 
 void writeBuf(const OIIO::ImageBuf &buf, const fs::path &path) {
-  fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp" + path.extension().string());
-  if (!buf.write(tmp.string())) throw std::runtime_error("cannot write " + path.string() + ": " + buf.geterror());
+  fs::path tmp =
+      path.parent_path() / ("." + path.filename().string() + ".tmp" + path.extension().string());
+  if (!buf.write(tmp.string()))
+    throw std::runtime_error("cannot write " + path.string() + ": " + buf.geterror());
   fs::rename(tmp, path);
 }
 
@@ -65,17 +67,22 @@ void writeIndex(const fs::path &dir) {
     if (e.path().extension() == ".txt") reports.push_back(e.path());
   std::sort(reports.begin(), reports.end());
   std::ofstream html(dir / "index.html");
-  html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>LRay reference failures</title>"
-          "<style>body{font-family:sans-serif;background:#222;color:#eee} img{image-rendering:pixelated;"
-          "width:320px;border:1px solid #666} td{padding:4px;vertical-align:top} pre{color:#fc8;white-space:pre-wrap}</style>"
-          "</head><body><h1>LRay reference-image failures</h1>\n";
+  html
+      << "<!doctype html><html><head><meta charset=\"utf-8\"><title>LRay reference failures</title>"
+         "<style>body{font-family:sans-serif;background:#222;color:#eee} "
+         "img{image-rendering:pixelated;"
+         "width:320px;border:1px solid #666} td{padding:4px;vertical-align:top} "
+         "pre{color:#fc8;white-space:pre-wrap}</style>"
+         "</head><body><h1>LRay reference-image failures</h1>\n";
   for (const fs::path &r : reports) {
     std::string stem = r.stem().string();
     std::ifstream in(r);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    html << "<h2>" << stem << "</h2><pre>" << text << "</pre><table><tr><th>new</th><th>reference</th>"
-         << "<th>difference x10</th></tr><tr><td><img src=\"" << stem << ".new.png\"></td><td><img src=\""
-         << stem << ".ref.png\"></td><td><img src=\"" << stem << ".diff.png\"></td></tr></table>\n";
+    html << "<h2>" << stem << "</h2><pre>" << text
+         << "</pre><table><tr><th>new</th><th>reference</th>"
+         << "<th>difference x10</th></tr><tr><td><img src=\"" << stem
+         << ".new.png\"></td><td><img src=\"" << stem << ".ref.png\"></td><td><img src=\"" << stem
+         << ".diff.png\"></td></tr></table>\n";
   }
   html << "</body></html>\n";
 }
@@ -97,7 +104,8 @@ int check(const Args &a) {
   bool isFloat = fs::path(a.reference).extension() == ".exr";
   OIIO::ImageBuf rendered = filmToBuf(film, isFloat);
 
-  if (const char *update = std::getenv("LRAY_UPDATE_REFERENCES"); update && std::string(update) == "1") {
+  if (const char *update = std::getenv("LRAY_UPDATE_REFERENCES");
+      update && std::string(update) == "1") {
     fs::create_directories(fs::path(a.reference).parent_path());
     writeBuf(rendered, a.reference);
     std::cout << "updated " << a.reference << "\n";
@@ -118,11 +126,12 @@ int check(const Args &a) {
   auto cmp = OIIO::ImageBufAlgo::compare(rendered, reference, a.fail, a.fail);
   const double pixels = static_cast<double>(a.width) * a.height;
   const double failedPercent = 100.0 * static_cast<double>(cmp.nfail) / pixels;
-  std::string summary = fmt::format(
-      "{}: {} pixels ({:.4f} %) differ by more than {} (allowed {} %); max error {:.5f} at ({}, {}) "
-      "(hard limit {}); mean {:.3g}, RMS {:.3g}, PSNR {:.2f} dB",
-      a.name, cmp.nfail, failedPercent, a.fail, a.failPercent, cmp.maxerror, cmp.maxx, cmp.maxy,
-      a.hardFail, cmp.meanerror, cmp.rms_error, cmp.PSNR);
+  std::string summary =
+      fmt::format("{}: {} pixels ({:.4f} %) differ by more than {} (allowed {} %); max error "
+                  "{:.5f} at ({}, {}) "
+                  "(hard limit {}); mean {:.3g}, RMS {:.3g}, PSNR {:.2f} dB",
+                  a.name, cmp.nfail, failedPercent, a.fail, a.failPercent, cmp.maxerror, cmp.maxx,
+                  cmp.maxy, a.hardFail, cmp.meanerror, cmp.rms_error, cmp.PSNR);
   // CompareResults::error only says that some pixel exceeded --fail (sizes
   // were checked above), so the verdict is idiff's: failpercent and hardfail.
   bool failed = failedPercent > a.failPercent || cmp.maxerror > a.hardFail;

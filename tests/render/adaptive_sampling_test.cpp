@@ -139,7 +139,8 @@ TEST_P(AdaptiveSampling, EveryPixelStopsConvergedWithItsNeighboursOrAtTheMaximum
           const int nx = x + dx, ny = y + dy;
           if (nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
           if (film.sampleCount(nx, ny) >= static_cast<uint32_t>(maxSamples)) continue;
-          EXPECT_LT(film.error(nx, ny), threshold) << nx << "," << ny << " next to " << x << "," << y;
+          EXPECT_LT(film.error(nx, ny), threshold)
+              << nx << "," << ny << " next to " << x << "," << y;
         }
     }
   }
@@ -203,14 +204,16 @@ TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
   // first pass of 4 at the same threshold.
   EXPECT_GT(atCentre, kWidth * kHeight / 5);
   EXPECT_LT(atCentre, kWidth * kHeight);
-  EXPECT_LT(film.report.samples, render(scene, *accel, adaptiveSettings(threshold, 4, 128)).report.samples);
+  EXPECT_LT(film.report.samples,
+            render(scene, *accel, adaptiveSettings(threshold, 4, 128)).report.samples);
 }
 
 TEST_P(AdaptiveSampling, CentreFirstConvergesWithTheThreshold) {
   const Film reference = render(scene, *accel, fixedSettings(24));
   double lastError = 1e9;
   for (double threshold : {0.2, 0.05, 0.012, 0.003}) {
-    const double error = rmse(render(scene, *accel, adaptiveSettings(threshold, 1, 512)), reference);
+    const double error =
+        rmse(render(scene, *accel, adaptiveSettings(threshold, 1, 512)), reference);
     EXPECT_LT(error, lastError) << threshold;
     lastError = error;
   }

@@ -15,7 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path freshDir(const std::string &name) {
-  fs::path dir = fs::temp_directory_path() / ("lray_test_" + name + "_" + std::to_string(::getpid()));
+  fs::path dir =
+      fs::temp_directory_path() / ("lray_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -124,8 +124,8 @@ TEST(UnexpectedError, IsDescribedWithoutLibraryNames) {
   const std::string fsError = describeUnexpectedError(std::filesystem::filesystem_error(
       "cannot create directory", "/no/such", std::make_error_code(std::errc::permission_denied)));
   EXPECT_NE(fsError.find("/no/such"), std::string::npos) << fsError;
-  const std::string system =
-      describeUnexpectedError(std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again)));
+  const std::string system = describeUnexpectedError(
+      std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again)));
   EXPECT_EQ(system.rfind("the system refused: ", 0), 0u) << system;
 }
 

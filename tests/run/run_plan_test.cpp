@@ -91,7 +91,8 @@ protected:
     const std::string key = "\"fingerprint\":\"";
     const size_t at = info.output.find(key);
     EXPECT_NE(at, std::string::npos) << info.output;
-    std::string fingerprint = at == std::string::npos ? "" : info.output.substr(at + key.size(), 16);
+    std::string fingerprint =
+        at == std::string::npos ? "" : info.output.substr(at + key.size(), 16);
     std::string image;
     for (const auto &entry : fs::directory_iterator(out)) image = readFile(entry.path());
     return {image, fingerprint};

@@ -60,7 +60,8 @@ TEST(ObjLoaderTest, NegativeIndicesAreRelativeToWhatWasReadSoFar) {
 }
 
 TEST(ObjLoaderTest, PolygonsAreKeptWholeForFanning) {
-  MeshSource m = parseObj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 1 0\nf 1 2 3 4 5\n", "model.obj");
+  MeshSource m =
+      parseObj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 1 0\nf 1 2 3 4 5\n", "model.obj");
   EXPECT_EQ(m.faceSizes, (std::vector<uint32_t>{5}));
   EXPECT_EQ(m.corners.size(), 5u);
 }
@@ -86,11 +87,16 @@ TEST(ObjLoaderTest, MalformedLinesNameThePathAndLine) {
             "model.obj:4: vertex index -4 is out of range (3 so far)");
   EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2 3\n"),
             "model.obj:4: uv index 1 is out of range (0 so far)");
-  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"), "model.obj:4: face needs at least 3 corners, got 2");
-  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"), "model.obj:4: malformed vertex index '0'");
-  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n"), "model.obj:4: malformed face corner '1/'");
-  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1// 2 3\n"), "model.obj:4: malformed face corner '1//'");
-  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3a\n"), "model.obj:4: malformed vertex index '3a'");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"),
+            "model.obj:4: face needs at least 3 corners, got 2");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"),
+            "model.obj:4: malformed vertex index '0'");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n"),
+            "model.obj:4: malformed face corner '1/'");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1// 2 3\n"),
+            "model.obj:4: malformed face corner '1//'");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3a\n"),
+            "model.obj:4: malformed vertex index '3a'");
   EXPECT_EQ(errorOf("vn 0 0 nan\n"), "model.obj:1: non-finite number 'nan'");
   EXPECT_EQ(errorOf("v 0 5e43 0\n"),
             "model.obj:1: number '5e43' is out of range for single precision");

@@ -238,7 +238,8 @@ std::string bigEndian(uint32_t v) {
 }
 
 std::string pngChunk(const std::string &type, const std::string &data) {
-  return bigEndian(static_cast<uint32_t>(data.size())) + type + data + bigEndian(pngCrc(type + data));
+  return bigEndian(static_cast<uint32_t>(data.size())) + type + data +
+         bigEndian(pngCrc(type + data));
 }
 
 TEST_F(ImageCacheTest, AHeaderClaimingAHugeImageIsRefusedBeforeAllocating) {

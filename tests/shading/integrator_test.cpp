@@ -85,9 +85,9 @@ struct SceneBuilder {
   void spot(const Vec3 &from, const Vec3 &at, double angle, double falloff,
             const Color &c = {1, 1, 1}) {
     SpotLight l;
-    l.worldFromLight = Transform::lookAt(from, at, std::fabs(at.x - from.x) + std::fabs(at.z - from.z) > 0
-                                                       ? Vec3(0, 1, 0)
-                                                       : Vec3(0, 0, 1));
+    l.worldFromLight = Transform::lookAt(
+        from, at,
+        std::fabs(at.x - from.x) + std::fabs(at.z - from.z) > 0 ? Vec3(0, 1, 0) : Vec3(0, 0, 1));
     l.angle = angle;
     l.falloff = falloff;
     l.color = c;

@@ -25,14 +25,15 @@ Scene csgScene(double offset, double scale) {
   const Transform place = Transform::translate({offset, offset * 0.5, offset}) *
                           Transform::scale(scale, scale, scale);
   const Transform rodY = Transform::scale(0.4, 3, 0.4) * Transform::translate({0, -0.5, 0});
-  s.entities.push_back(csgEntity(opSpec(
-      CsgOp::Difference,
-      {opSpec(CsgOp::Intersection, {leafSpec(ShapeKind::Cube, Transform()),
-                                    leafSpec(ShapeKind::Sphere, Transform::scale(0.68, 0.68, 0.68))}),
-       leafSpec(ShapeKind::Cylinder, rodY),
-       leafSpec(ShapeKind::Cylinder, Transform::rotate({1, 0, 0}, 90) * rodY),
-       leafSpec(ShapeKind::Cylinder, Transform::rotate({0, 0, 1}, 90) * rodY)},
-      place * Transform::translate({-1.5, 0, 0}) * Transform::rotate({1, 1, 0}, 35))));
+  s.entities.push_back(csgEntity(
+      opSpec(CsgOp::Difference,
+             {opSpec(CsgOp::Intersection,
+                     {leafSpec(ShapeKind::Cube, Transform()),
+                      leafSpec(ShapeKind::Sphere, Transform::scale(0.68, 0.68, 0.68))}),
+              leafSpec(ShapeKind::Cylinder, rodY),
+              leafSpec(ShapeKind::Cylinder, Transform::rotate({1, 0, 0}, 90) * rodY),
+              leafSpec(ShapeKind::Cylinder, Transform::rotate({0, 0, 1}, 90) * rodY)},
+             place * Transform::translate({-1.5, 0, 0}) * Transform::rotate({1, 1, 0}, 35))));
   s.entities.push_back(csgEntity(opSpec(
       CsgOp::Intersection,
       {leafSpec(ShapeKind::Sphere, Transform::translate({-0.6, 0, 0})),

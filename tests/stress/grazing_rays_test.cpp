@@ -29,8 +29,12 @@ protected:
     accel_ = makeAccelerator(GetParam(), scene_);
   }
   /// Object-space ray o + t d taken to the world (t is preserved).
-  Ray worldRay(const Vec3 &o, const Vec3 &d) const { return {xf_.applyPoint(o), xf_.applyVector(d)}; }
-  bool hit(const Vec3 &o, const Vec3 &d, Hit &h) const { return accel_->intersect(worldRay(o, d), h); }
+  Ray worldRay(const Vec3 &o, const Vec3 &d) const {
+    return {xf_.applyPoint(o), xf_.applyVector(d)};
+  }
+  bool hit(const Vec3 &o, const Vec3 &d, Hit &h) const {
+    return accel_->intersect(worldRay(o, d), h);
+  }
 
   Transform xf_ = Transform::translate({10, -20, 30}) * Transform::rotate({1, 2, 3}, 37) *
                   Transform::scale(2, 0.5, 3);
@@ -63,8 +67,9 @@ TEST_P(StressGrazingRays, SphereTangents) {
       if (!hitIsFinite(h) || std::fabs(h.t - 3) > 1e-3) ++nonFinite;
     }
   }
-  std::printf("[tangent] %-6s sphere: %d of %d inside/outside offsets wrong, %d exact tangents hit\n",
-              backendName(GetParam()).c_str(), wrong, 2 * n, exactHits);
+  std::printf(
+      "[tangent] %-6s sphere: %d of %d inside/outside offsets wrong, %d exact tangents hit\n",
+      backendName(GetParam()).c_str(), wrong, 2 * n, exactHits);
   EXPECT_EQ(wrong, 0);
   EXPECT_EQ(nonFinite, 0);
 }
@@ -356,13 +361,15 @@ TEST_P(StressGrazingRays, RaysInAndParallelToSplitPlanes) {
               } else {
                 ++mismatches;
                 if (mismatches <= 5)
-                  std::printf("  mismatch: o (%g, %g, %g) d (%g, %g, %g): backend %d, brute force %d\n",
-                              o.x, o.y, o.z, d.x, d.y, d.z, got, expected);
+                  std::printf(
+                      "  mismatch: o (%g, %g, %g) d (%g, %g, %g): backend %d, brute force %d\n",
+                      o.x, o.y, o.z, d.x, d.y, d.z, got, expected);
               }
             }
   }
-  std::printf("[split planes] %-6s: %d rays, %d disagree with brute force, %d more are grazing ties\n",
-              backendName(GetParam()).c_str(), rays, mismatches, ties);
+  std::printf(
+      "[split planes] %-6s: %d rays, %d disagree with brute force, %d more are grazing ties\n",
+      backendName(GetParam()).c_str(), rays, mismatches, ties);
   EXPECT_EQ(mismatches, 0);
   EXPECT_EQ(nonFinite, 0);
 }

@@ -47,11 +47,14 @@ const BadInput kBadInputs[] = {
      "s.camera = Perspective() { transform = LookAt(Vector(0/0, 0, 0), Vector(0, 0, 1), y) }"},
     {"Inf transform by assignment", "",
      "local c = Cylinder(); c.transform = Translate(Vector(-1/0, 0, 0)); s:add_entity(c)"},
-    {"NaN light transform", "", "s:add_light(Light() { transform = Translate(Vector(0, 0/0, 0)) })"},
+    {"NaN light transform", "",
+     "s:add_light(Light() { transform = Translate(Vector(0, 0/0, 0)) })"},
     {"NaN mesh vertex", "",
-     "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0/0, 0}, {0, 1, 0}}, indices = {{1, 2, 3}} })"},
+     "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0/0, 0}, {0, 1, 0}}, indices = {{1, 2, 3}} "
+     "})"},
     {"Inf mesh vertex", "",
-     "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, -1/0}}, indices = {{1, 2, 3}} })"},
+     "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, -1/0}}, indices = {{1, 2, 3}} "
+     "})"},
     {"NaN mesh normal", "",
      "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, normals = {{0, 0/0, 1}}, "
      "indices = {{{1, nil, 1}, {2, nil, 1}, {3, nil, 1}}} })"},
@@ -60,13 +63,16 @@ const BadInput kBadInputs[] = {
      "indices = {{{1, 1}, {2, 1}, {3, 1}}} })"},
     {"NaN colour", "", "s.background_color = Color(0/0, 0, 0)"},
     {"NaN light colour", "", "s:add_light(Light() { color = Color(1, 1/0, 1) })"},
-    {"NaN diffuse", "", "s:add_entity(Sphere() { texture = Texture() { finish = Finish() { diffuse = 0/0 } } })"},
-    {"Inf reflection", "", "s:add_entity(Sphere() { texture = Texture() { finish = Finish() { reflection = 1/0 } } })"},
+    {"NaN diffuse", "",
+     "s:add_entity(Sphere() { texture = Texture() { finish = Finish() { diffuse = 0/0 } } })"},
+    {"Inf reflection", "",
+     "s:add_entity(Sphere() { texture = Texture() { finish = Finish() { reflection = 1/0 } } })"},
     {"NaN field of view", "", "s.camera = Perspective(0/0, 1)"},
     {"NaN image width", "scene_info = SceneInfo() { image_width = 0/0 }", ""},
     {"NaN clock", "scene_info = SceneInfo() { start_clock = 0/0 }", ""},
     {"NaN marble frequency", "",
-     "s:add_entity(Sphere() { texture = Texture() { pigment = MarblePigment3D() { frequency = Vector(0/0, 1, 1) } } })"},
+     "s:add_entity(Sphere() { texture = Texture() { pigment = MarblePigment3D() { frequency = "
+     "Vector(0/0, 1, 1) } } })"},
 };
 
 TEST(StressNonFiniteInput, EveryNonFiniteValueIsASceneError) {
@@ -85,9 +91,10 @@ TEST(StressNonFiniteInput, MessagesNameTheProblem) {
   for (const BadInput &c : kBadInputs) {
     std::string message = loadError(c.prelude, c.body);
     if (message.empty()) continue; // reported by the test above
-    bool named = message.find("finite") != std::string::npos ||
-                 message.find("nan") != std::string::npos || message.find("NaN") != std::string::npos ||
-                 message.find("inf") != std::string::npos || message.find("singular") != std::string::npos;
+    bool named =
+        message.find("finite") != std::string::npos || message.find("nan") != std::string::npos ||
+        message.find("NaN") != std::string::npos || message.find("inf") != std::string::npos ||
+        message.find("singular") != std::string::npos;
     EXPECT_TRUE(named) << c.name << ": " << message;
   }
 }
@@ -98,18 +105,21 @@ TEST(StressNonFiniteInput, MeshValueBeyondSinglePrecision) {
   EXPECT_NE(loadError("", "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1e39, 0, 0}, {0, 1, 0}}, "
                           "indices = {{1, 2, 3}} })"),
             "");
-  EXPECT_NE(loadError("", "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "
-                          "normals = {{0, 0, -1e39}}, indices = {{{1, nil, 1}, {2, nil, 1}, {3, nil, 1}}} })"),
-            "");
+  EXPECT_NE(
+      loadError(
+          "", "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "
+              "normals = {{0, 0, -1e39}}, indices = {{{1, nil, 1}, {2, nil, 1}, {3, nil, 1}}} })"),
+      "");
 }
 
 TEST(StressNonFiniteInput, ValidSceneStillLoads) {
   // Control for the cases above: the same shapes with finite values load.
-  EXPECT_EQ(loadError("", "s:add_entity(Sphere(Translate(Vector(1, 2, 3)) * Scale(2) * Rotate(y, 30)))\n"
-                          "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "
-                          "indices = {{1, 2, 3}} })\n"
-                          "s:add_light(Light() { color = Color(1, 1, 1) })"),
-            "");
+  EXPECT_EQ(
+      loadError("", "s:add_entity(Sphere(Translate(Vector(1, 2, 3)) * Scale(2) * Rotate(y, 30)))\n"
+                    "s:add_entity(Mesh() { vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "
+                    "indices = {{1, 2, 3}} })\n"
+                    "s:add_light(Light() { color = Color(1, 1, 1) })"),
+      "");
 }
 
 TEST(StressNonFinitePixels, ExtremeFinishesRenderNoNaN) {

@@ -76,7 +76,8 @@ public:
       }
       break;
     case ShapeKind::Cylinder:
-      if (roots(d.x * d.x + d.z * d.z, os.x * d.x + os.z * d.z, os.x * os.x + os.z * os.z - 1, t0, t1))
+      if (roots(d.x * d.x + d.z * d.z, os.x * d.x + os.z * d.z, os.x * os.x + os.z * os.z - 1, t0,
+                t1))
         for (LD t : {t0, t1}) {
           LD y = os.y + t * d.y;
           consider(t, y >= 0 && y <= 1);
@@ -240,14 +241,15 @@ TEST_P(StressQuadricAccuracy, FarNonUniformlyScaledQuadricsWithinEightUlps) {
         worstScaled = std::max(worstScaled, err * cosine);
       }
       worstAll = std::max(worstAll, worst);
-      std::printf("[quadric] %-6s %-8s %-13s: %d hits, worst |t - t_ref| = %.2f ulp(t) "
-                  "(%.2f at cos > 0.1, %.2f at cos > 0.5; max err*cos %.2f), %d hit/miss disagreements\n",
-                  backendName(GetParam()).c_str(),
-                  kind == ShapeKind::Sphere     ? "sphere"
-                  : kind == ShapeKind::Cylinder ? "cylinder"
-                  : kind == ShapeKind::Cone     ? "cone"
-                                                : "torus",
-                  pl.name, hits, worst, worstSteep, worstHalf, worstScaled, missMismatch);
+      std::printf(
+          "[quadric] %-6s %-8s %-13s: %d hits, worst |t - t_ref| = %.2f ulp(t) "
+          "(%.2f at cos > 0.1, %.2f at cos > 0.5; max err*cos %.2f), %d hit/miss disagreements\n",
+          backendName(GetParam()).c_str(),
+          kind == ShapeKind::Sphere     ? "sphere"
+          : kind == ShapeKind::Cylinder ? "cylinder"
+          : kind == ShapeKind::Cone     ? "cone"
+                                        : "torus",
+          pl.name, hits, worst, worstSteep, worstHalf, worstScaled, missMismatch);
       // The target, 8 double ulps of t, for every hit. Grazing hits are
       // ill-conditioned (an ulp of the object-space ray moves t by 1/cos
       // ulps); shape.cpp refines them in long double, without which this

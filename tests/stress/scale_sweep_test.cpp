@@ -98,8 +98,10 @@ TEST_P(StressScaleSweep, OccluderAtOneThousandthOfScaleCastsShadow) {
       uint32_t entity;
     };
     const Probe probes[] = {
-        {"cube plate over floor", Plates::kFloorCubeX, Plates::kFloorCubeZ, 0.35, StressScene::kFloor},
-        {"mesh plate over floor", Plates::kFloorMeshX, Plates::kFloorMeshZ, 0.35, StressScene::kFloor},
+        {"cube plate over floor", Plates::kFloorCubeX, Plates::kFloorCubeZ, 0.35,
+         StressScene::kFloor},
+        {"mesh plate over floor", Plates::kFloorMeshX, Plates::kFloorMeshZ, 0.35,
+         StressScene::kFloor},
         {"cube plate over sphere", Plates::kSphereX, Plates::kSphereZ, 0.03, StressScene::kSphere},
     };
     for (const Probe &p : probes) {

@@ -67,7 +67,8 @@ struct Plates {
   static constexpr double kGap = 1e-3;
   static constexpr double kThickness = 1e-4;
   // Centres (unit frame, x and z) of the plates.
-  static constexpr double kFloorCubeX = -8, kFloorCubeZ = 12;  ///< analytic cube plate over the floor
+  static constexpr double kFloorCubeX = -8,
+                          kFloorCubeZ = 12; ///< analytic cube plate over the floor
   static constexpr double kFloorMeshX = 8, kFloorMeshZ = 12;   ///< triangle plate over the floor
   static constexpr double kSphereX = -2.5, kSphereZ = 6;       ///< cube plate over the sphere's top
   static constexpr double kSphereTop = 2.5;
@@ -118,8 +119,9 @@ inline StressScene makeStressScene(double offset, double scale, bool withPlates 
                                Transform::translate({Plates::kFloorCubeX, h, Plates::kFloorCubeZ}) *
                                    Transform::scale(1, Plates::kThickness, 1)));
     unit.push_back(shapeEntity(
-        ShapeKind::Cube, Transform::translate({Plates::kSphereX, Plates::kSphereTop + h, Plates::kSphereZ}) *
-                             Transform::scale(0.2, Plates::kThickness, 0.2)));
+        ShapeKind::Cube,
+        Transform::translate({Plates::kSphereX, Plates::kSphereTop + h, Plates::kSphereZ}) *
+            Transform::scale(0.2, Plates::kThickness, 0.2)));
     // Triangle plate: a unit square at y = 0, moved up by its transform.
     auto quad = makeMesh({{-0.5f, 0, -0.5f}, {0.5f, 0, -0.5f}, {0.5f, 0, 0.5f}, {-0.5f, 0, 0.5f}},
                          {0, 2, 1, 0, 3, 2});
@@ -188,14 +190,17 @@ inline std::vector<int> hitEntities(const Accelerator &accel, const std::vector<
   std::vector<uint8_t> found(rays.size());
   accel.intersectCoherent(rays.data(), rays.size(), hits.data(), found.data());
   std::vector<int> ids(rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) ids[i] = found[i] ? static_cast<int>(hits[i].entity) : -1;
+  for (size_t i = 0; i < rays.size(); ++i)
+    ids[i] = found[i] ? static_cast<int>(hits[i].entity) : -1;
   if (hitsOut) *hitsOut = std::move(hits);
   return ids;
 }
 
 /// Every field of a hit record is finite and the normals are unit.
 inline bool hitIsFinite(const Hit &h) {
-  auto fin = [](const Vec3 &v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto fin = [](const Vec3 &v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   return std::isfinite(h.t) && fin(h.p) && fin(h.pObject) && fin(h.ng) && fin(h.ns) &&
          std::isfinite(h.u) && std::isfinite(h.v) && std::isfinite(h.pError) &&
          std::fabs(length(h.ng) - 1) < 1e-6 && std::fabs(length(h.ns) - 1) < 1e-6;

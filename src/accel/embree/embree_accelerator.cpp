@@ -258,7 +258,8 @@ void EmbreeAccelerator::build() {
     if (!e.isMesh()) {
       // A shape with empty bounds (a CSG Intersection of disjoint solids)
       // has nothing to hit, and Embree would take its inverted box in.
-      if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty()) shapeRefs_.push_back({&e, id});
+      if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty())
+        shapeRefs_.push_back({&e, id});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

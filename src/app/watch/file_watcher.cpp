@@ -28,7 +28,9 @@ std::string absolute(const std::string &path) {
 } // namespace
 
 FileWatcher::FileWatcher() : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
-  if (fd_ < 0) throw SceneError(std::string("--watch: cannot watch files (inotify: ") + std::strerror(errno) + ")");
+  if (fd_ < 0)
+    throw SceneError(std::string("--watch: cannot watch files (inotify: ") + std::strerror(errno) +
+                     ")");
 }
 
 FileWatcher::~FileWatcher() { close(fd_); }
@@ -80,7 +82,8 @@ bool FileWatcher::drain() {
   return changed;
 }
 
-bool FileWatcher::waitForChange(std::chrono::milliseconds timeout, std::chrono::milliseconds quiet) {
+bool FileWatcher::waitForChange(std::chrono::milliseconds timeout,
+                                std::chrono::milliseconds quiet) {
   pollfd p{fd_, POLLIN, 0};
   auto waitFor = [&](std::chrono::milliseconds ms) {
     return poll(&p, 1, static_cast<int>(ms.count())) > 0;

@@ -35,7 +35,8 @@ struct PreviewServer::Impl {
     if (!loopback()) return true;
     const std::string h = req.get_header_value("Host");
     for (const char *name : {"127.0.0.1", "localhost", "[::1]"})
-      if (h == std::string(name) + ":" + std::to_string(port) || (port == 80 && h == name)) return true;
+      if (h == std::string(name) + ":" + std::to_string(port) || (port == 80 && h == name))
+        return true;
     return false;
   }
 
@@ -96,13 +97,14 @@ struct PreviewServer::Impl {
       if (!sameOrigin(req)) return refuse(res, 403, "events are for this page's own origin");
       res.set_header("Cache-Control", "no-store");
       auto sent = std::make_shared<uint64_t>(~uint64_t{0});
-      res.set_chunked_content_provider("text/event-stream", [this, sent](size_t, httplib::DataSink &sink) {
-        try {
-          return stream(*sent, sink);
-        } catch (...) {
-          return false; // nothing may escape a content provider: it would end the process
-        }
-      });
+      res.set_chunked_content_provider(
+          "text/event-stream", [this, sent](size_t, httplib::DataSink &sink) {
+            try {
+              return stream(*sent, sink);
+            } catch (...) {
+              return false; // nothing may escape a content provider: it would end the process
+            }
+          });
     });
     server.Post("/control", [this](const httplib::Request &req, httplib::Response &res) {
       if (!sameOrigin(req)) return refuse(res, 403, "actions are for this page's own origin");
@@ -134,7 +136,8 @@ struct PreviewServer::Impl {
                                   .string();
       {
         std::ofstream out(tmp, std::ios::binary);
-        out.write(reinterpret_cast<const char *>(image->data()), static_cast<std::streamsize>(image->size()));
+        out.write(reinterpret_cast<const char *>(image->data()),
+                  static_cast<std::streamsize>(image->size()));
         if (!out.flush()) {
           std::error_code ec;
           fs::remove(tmp, ec);

@@ -17,21 +17,29 @@ const std::string &previewPage() {
   :root { color-scheme: dark; font: 15px/1.4 system-ui, sans-serif; }
   body { margin: 0; background: #16181d; color: #e6e6e6; }
   [hidden] { display: none !important; }
-  header { display: flex; flex-wrap: wrap; gap: .5rem 1rem; align-items: center; padding: .6rem 1rem; background: #22252c; }
+  header { display: flex; flex-wrap: wrap; gap: .5rem 1rem; align-items: center;
+           padding: .6rem 1rem; background: #22252c; }
   header h1 { font-size: 1rem; margin: 0; font-weight: 600; }
   #scene { color: #9aa3b2; overflow-wrap: anywhere; }
   main { padding: 1rem; display: grid; gap: 1rem; }
   #view { text-align: center; }
-  #image { min-width: min(100%, 480px); max-width: 100%; height: auto; image-rendering: pixelated; background: #000; border-radius: 4px; }
+  #image { min-width: min(100%, 480px); max-width: 100%; height: auto;
+           image-rendering: pixelated; background: #000; border-radius: 4px; }
   #status { font-variant-numeric: tabular-nums; color: #c8cdd6; }
-  #error { display: none; white-space: pre-wrap; background: #4a1d1d; color: #ffd7d7; border: 1px solid #a33; padding: .6rem .8rem; border-radius: 4px; font-family: ui-monospace, monospace; }
+  #error { display: none; white-space: pre-wrap; background: #4a1d1d; color: #ffd7d7;
+           border: 1px solid #a33; padding: .6rem .8rem; border-radius: 4px;
+           font-family: ui-monospace, monospace; }
   .controls { display: flex; flex-wrap: wrap; gap: .6rem 1.2rem; align-items: center; }
   .controls label { display: flex; gap: .4rem; align-items: center; }
   #frame { width: min(22rem, 60vw); }
-  button, select { font: inherit; background: #2f3440; color: inherit; border: 1px solid #4a5060; border-radius: 4px; padding: .3rem .7rem; }
+  button, select { font: inherit; background: #2f3440; color: inherit;
+                   border: 1px solid #4a5060; border-radius: 4px; padding: .3rem .7rem; }
   button:hover { background: #3a4050; }
-  details pre { overflow-x: auto; font-size: .8rem; background: #1e2127; padding: .6rem; border-radius: 4px; }
-  .state-rendering { color: #ffd479; } .state-done { color: #8fe08f; } .state-error { color: #ff8a8a; }
+  details pre { overflow-x: auto; font-size: .8rem; background: #1e2127; padding: .6rem;
+                border-radius: 4px; }
+  .state-rendering { color: #ffd479; }
+  .state-done { color: #8fe08f; }
+  .state-error { color: #ff8a8a; }
 </style>
 </head>
 <body>
@@ -45,7 +53,9 @@ const std::string &previewPage() {
   <div id="view"><img id="image" alt="" data-version="0" hidden></div>
   <div id="status">waiting for the first image</div>
   <div class="controls">
-    <label id="frameBox" hidden>frame <input id="frame" type="range" min="0" max="0" value="0"><span id="frameNo">0</span></label>
+    <label id="frameBox" hidden>frame
+      <input id="frame" type="range" min="0" max="0" value="0"><span id="frameNo">0</span>
+    </label>
     <label>backend <select id="backend"></select></label>
     <button id="save" type="button">Save image</button>
     <span id="saved"></span>
@@ -57,7 +67,8 @@ const std::string &previewPage() {
 const $ = id => document.getElementById(id);
 let shown = 0, dragging = false;
 function post(path, body) {
-  return fetch(path, { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body || {}) });
+  return fetch(path, { method: "POST", headers: { "Content-Type": "application/json" },
+                       body: JSON.stringify(body || {}) });
 }
 function update(s) {
   $("scene").textContent = s.scene;
@@ -83,12 +94,15 @@ function update(s) {
   if (s.width) {
     const passName = s.pass === 0 ? "first look" : "pass " + s.pass;
     $("status").textContent = s.width + " x " + s.height + " · " + passName + " · " +
-      s.samples_per_pixel.toFixed(1) + " samples/pixel · " + s.seconds.toFixed(2) + " s · error mean " +
-      s.error_mean.toFixed(4) + ", max " + s.error_max.toFixed(4);
+      s.samples_per_pixel.toFixed(1) + " samples/pixel · " + s.seconds.toFixed(2) +
+      " s · error mean " + s.error_mean.toFixed(4) + ", max " + s.error_max.toFixed(4);
   }
   $("frameBox").hidden = s.frames <= 1;
   $("frame").max = String(Math.max(0, s.frames - 1));
-  if (!dragging) { $("frame").value = String(s.frame); $("frameNo").textContent = s.frame + " (clock " + s.clock.toFixed(3) + ")"; }
+  if (!dragging) {
+    $("frame").value = String(s.frame);
+    $("frameNo").textContent = s.frame + " (clock " + s.clock.toFixed(3) + ")";
+  }
   const sel = $("backend");
   if (sel.options.length !== s.backends.length)
     sel.replaceChildren(...s.backends.map(b => new Option(b, b)));
@@ -99,13 +113,23 @@ function update(s) {
 }
 const events = new EventSource("/events");
 events.onmessage = e => update(JSON.parse(e.data));
-events.onerror = () => { $("state").textContent = "disconnected (is lray --watch still running?)"; $("state").className = "state-error"; };
-$("frame").addEventListener("input", () => { dragging = true; $("frameNo").textContent = $("frame").value; });
-$("frame").addEventListener("change", () => { dragging = false; post("/control", { frame: Number($("frame").value) }); });
+events.onerror = () => {
+  $("state").textContent = "disconnected (is lray --watch still running?)";
+  $("state").className = "state-error";
+};
+$("frame").addEventListener("input", () => {
+  dragging = true;
+  $("frameNo").textContent = $("frame").value;
+});
+$("frame").addEventListener("change", () => {
+  dragging = false;
+  post("/control", { frame: Number($("frame").value) });
+});
 $("backend").addEventListener("change", () => post("/control", { backend: $("backend").value }));
 $("save").addEventListener("click", async () => {
   const r = await post("/save");
-  $("saved").textContent = r.ok ? "saved " + (await r.json()).path : "not saved: " + (await r.text());
+  $("saved").textContent =
+    r.ok ? "saved " + (await r.json()).path : "not saved: " + (await r.text());
 });
 </script>
 </body>

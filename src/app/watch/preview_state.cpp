@@ -93,7 +93,8 @@ bool PreviewState::requestPending() const {
   return request_.has_value();
 }
 
-std::pair<std::shared_ptr<const std::vector<uint8_t>>, std::string> PreviewState::imageToSave() const {
+std::pair<std::shared_ptr<const std::vector<uint8_t>>, std::string>
+PreviewState::imageToSave() const {
   std::lock_guard lock(mutex_);
   return {image_, savePath_};
 }

@@ -73,14 +73,17 @@ public:
       status_.height = info.imageHeight;
       const std::string stem = fs::path(opt_.scenePath).stem().string();
       // Beside the scene, a name of its own: Save never replaces a user's file.
-      const std::string fileName = opt_.outDir.empty()
-                                       ? frameFileName(stem + "-preview", frame_, info.frames, ImageFormat::Png)
-                                       : frameFileName(stem, frame_, info.frames, ImageFormat::Png);
-      const fs::path folder = opt_.outDir.empty() ? fs::path(opt_.scenePath).parent_path() : fs::path(opt_.outDir);
+      const std::string fileName =
+          opt_.outDir.empty()
+              ? frameFileName(stem + "-preview", frame_, info.frames, ImageFormat::Png)
+              : frameFileName(stem, frame_, info.frames, ImageFormat::Png);
+      const fs::path folder =
+          opt_.outDir.empty() ? fs::path(opt_.scenePath).parent_path() : fs::path(opt_.outDir);
       savePath_ = (folder / fileName).string();
       if (!opt_.outDir.empty()) {
         fs::create_directories(opt_.outDir);
-        outPath_ = (fs::path(opt_.outDir) / frameFileName(stem, frame_, info.frames, opt_.format)).string();
+        outPath_ = (fs::path(opt_.outDir) / frameFileName(stem, frame_, info.frames, opt_.format))
+                       .string();
       }
 
       FrameStats stats;
@@ -150,7 +153,8 @@ private:
     status_.state = what;
     status_.message.clear();
     status_.pass = pass;
-    status_.samplesPerPixel = film.pixels() ? double(film.report.samples) / double(film.pixels()) : 0;
+    status_.samplesPerPixel =
+        film.pixels() ? double(film.report.samples) / double(film.pixels()) : 0;
     if (pass == 0) status_.samplesPerPixel = 1;
     status_.errorMean = film.report.meanError;
     status_.errorMax = film.report.maxError;
@@ -239,7 +243,8 @@ int runWatch(const Options &opt) {
     // it (at the end of the pass under way) and starts the next one.
     bool again = false;
     while (!done) {
-      if (watcher.waitForChange(std::chrono::milliseconds(50), kQuiet) || state.requestPending() || gStop) {
+      if (watcher.waitForChange(std::chrono::milliseconds(50), kQuiet) || state.requestPending() ||
+          gStop) {
         cancel = true;
         again = true;
         break;

@@ -27,7 +27,9 @@ struct Light {
   SourceLocation loc;
 
   /// Shadow rays per shading point (bounded by --max-light-samples).
-  uint64_t samplesPerPoint() const { return static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols); }
+  uint64_t samplesPerPoint() const {
+    return static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols);
+  }
 
   /// A script-level problem with the values ("": none; each is checked alone).
   std::string invalid() const { return {}; }

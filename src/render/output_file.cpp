@@ -78,6 +78,7 @@ void writeAtomically(const std::string &path, const char *what,
     removeTmp();
     fail(why);
   }
+  if (!fs::is_regular_file(tmp, ec)) fail("its writer reported success but wrote no file");
   if (replace) {
     fs::rename(tmp, target, ec);
     if (ec) {

@@ -14,23 +14,48 @@ namespace lray {
 namespace {
 
 std::atomic<const OiioLibrary *> loaded{nullptr};
+std::string failure; ///< why load() failed; written once, inside call_once
 
 const OiioLibrary *load() {
   std::string tried;
+  if (std::string why = probeModuleUnderLimit(LRAY_OIIO_MODULE, "liblray_oiio.so",
+                                              "lray_oiio_library", 30);
+      !why.empty()) {
+    failure = "not enough memory to load LRay's OpenImageIO module (needed for image textures "
+              "and EXR output) under this process's address-space limit (ulimit -v): " + why;
+    return nullptr;
+  }
   void *entry = loadModuleEntry(LRAY_OIIO_MODULE, "liblray_oiio.so", "lray_oiio_library", tried);
-  if (!entry)
-    throw std::runtime_error("cannot load LRay's OpenImageIO module (needed for image textures "
-                             "and EXR output):" + tried);
-  return reinterpret_cast<const OiioLibrary *(*)()>(entry)();
+  if (entry) return reinterpret_cast<const OiioLibrary *(*)()>(entry)();
+  const std::string what = "LRay's OpenImageIO module (needed for image textures and EXR output)";
+  // Its ~260 libraries need a few hundred MiB of address space: under a
+  // tight limit (ulimit -v) that is what fails, and the user should hear so.
+  if (moduleFailedForMemory(tried))
+    failure = "not enough memory to load " + what + ":" + tried;
+  else
+    failure = "cannot load " + what + ":" + tried;
+  return nullptr;
 }
 
 } // namespace
 
 const OiioLibrary &oiioLibrary() {
+  // Nothing throws inside call_once: libstdc++'s call_once over glibc
+  // aborts ("The futex facility returned an unexpected error code") when
+  // its function throws, as load() could under a memory limit.
   static std::once_flag once;
-  std::call_once(once, [] { loaded = load(); });
+  std::call_once(once, [] {
+    try {
+      loaded = load();
+    } catch (...) { // out of memory while loading: failure stays as it was
+    }
+  });
   const OiioLibrary *library = loaded.load();
-  if (!library) throw std::runtime_error("LRay's OpenImageIO module failed to load earlier");
+  if (!library)
+    throw SceneError(failure.empty()
+                         ? "not enough memory to load LRay's OpenImageIO module (needed for "
+                           "image textures and EXR output)"
+                         : failure);
   return *library;
 }
 

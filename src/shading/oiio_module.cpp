@@ -6,6 +6,8 @@
 #include "shading/oiio_library.h"
 #include "shading/texel_convert.h"
 
+#include <sys/resource.h>
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -62,10 +64,21 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   return image;
 }
 
+/// OpenImageIO's reason, or ours where it gave none (it fails silently
+/// when it runs out of memory, as under an address-space limit).
+std::string writeError(std::string why) {
+  if (!why.empty()) return why;
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+    return "OpenImageIO could not write it (out of memory under this process's address-space "
+           "limit, ulimit -v?)";
+  return "OpenImageIO could not write it";
+}
+
 std::string writeFloat(const std::string &path, int width, int height,
                        const std::vector<std::string> &channels, const float *pixels) {
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) return OIIO::geterror();
+  if (!out) return writeError(OIIO::geterror());
   OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = channels;
   // No time stamp (OpenImageIO would write the current time as capDate):
@@ -73,13 +86,13 @@ std::string writeFloat(const std::string &path, int width, int height,
   // tiles is byte-identical to one rendered whole.
   spec.attribute("DateTime", "");
   if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close())
-    return out->geterror();
+    return writeError(out->geterror());
   return {};
 }
 
 std::string writeFloatWindow(const std::string &path, const FloatWindow &image) {
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) return OIIO::geterror();
+  if (!out) return writeError(OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, static_cast<int>(image.channels.size()),
                        OIIO::TypeDesc::FLOAT);
   spec.x = image.x0;
@@ -93,7 +106,7 @@ std::string writeFloatWindow(const std::string &path, const FloatWindow &image) 
   for (const auto &[name, value] : image.attributes) spec.attribute(name, value);
   if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
       !out->close())
-    return out->geterror();
+    return writeError(out->geterror());
   return {};
 }
 

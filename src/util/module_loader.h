@@ -3,6 +3,7 @@
 // the runs that need it.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace lray {
@@ -14,5 +15,17 @@ namespace lray {
 /// why it failed. The module stays loaded, its symbols its own (RTLD_LOCAL).
 void *loadModuleEntry(const std::string &buildPath, const std::string &fileName,
                       const char *entry, std::string &tried);
+
+/// Under an address-space limit (ulimit -v), loading a large module can
+/// fail inside a library's own initialisation, which then aborts or hangs
+/// instead of reporting (OpenImageIO's dependencies do both). Where such a
+/// limit is set, this loads the module in a child process first: "" when
+/// it loaded there (or no limit is set), else why not. At most `seconds`.
+std::string probeModuleUnderLimit(const std::string &buildPath, const std::string &fileName,
+                                  const char *entry, double seconds);
+
+/// Whether `tried` (loadModuleEntry's account) says a candidate failed for
+/// want of memory (address space), not for a missing or broken file.
+bool moduleFailedForMemory(const std::string &tried);
 
 } // namespace lray

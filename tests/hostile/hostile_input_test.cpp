@@ -41,7 +41,8 @@ struct Outcome {
 /// `fileSizeLimit`, no file it writes may grow past that many bytes (a
 /// full disk, as far as the process can tell: writes fail with EFBIG).
 Outcome runProgram(const std::string &binary, const std::vector<std::string> &args,
-                   double limitSeconds, rlim_t fileSizeLimit = RLIM_INFINITY) {
+                   double limitSeconds, rlim_t fileSizeLimit = RLIM_INFINITY,
+                   rlim_t addressSpaceLimit = RLIM_INFINITY) {
   int pipeFds[2];
   if (pipe(pipeFds) != 0) return {};
   const auto start = std::chrono::steady_clock::now();
@@ -51,6 +52,10 @@ Outcome runProgram(const std::string &binary, const std::vector<std::string> &ar
       signal(SIGXFSZ, SIG_IGN);
       const rlimit limit{fileSizeLimit, fileSizeLimit};
       setrlimit(RLIMIT_FSIZE, &limit);
+    }
+    if (addressSpaceLimit != RLIM_INFINITY) {
+      const rlimit limit{addressSpaceLimit, addressSpaceLimit};
+      setrlimit(RLIMIT_AS, &limit);
     }
     dup2(pipeFds[1], 1);
     dup2(pipeFds[1], 2);
@@ -955,6 +960,28 @@ TEST_F(Hostile, TilesOfScenesNamedWithADotOrANewlineMerge) {
     const Outcome o = runMerge({folder}, 20);
     EXPECT_EQ(o.status, 0) << o.output;
     EXPECT_TRUE(fs::is_regular_file(fs::path(folder) / (name + ".png"))) << o.output;
+  }
+}
+
+// ---- Out of memory anywhere: one clear message and exit 1, in bounded time,
+// whatever the address-space limit (ulimit -v) lets LRay get to.
+
+TEST_F(Hostile, AnAddressSpaceLimitIsOneClearMessageWherEverItBites) {
+  const std::string s = write("as.lua", kNoisy);
+  for (rlim_t mib : {64, 200, 440, 500, 600, 800}) {
+    SCOPED_TRACE(std::to_string(mib) + " MiB");
+    fs::remove_all(out());
+    const Outcome o = runProgram(LRAY_BINARY, {s, out(), "-q", "-f", "exr"}, 60, RLIM_INFINITY,
+                                 mib << 20);
+    EXPECT_FALSE(o.timedOut);
+    ASSERT_TRUE(o.status == 0 || o.status == 1) << "killed or aborted: " << o.output;
+    if (o.status == 0) continue; // it fitted
+    EXPECT_EQ(o.output.rfind("lray: error: ", 0), 0u) << o.output;
+    EXPECT_NE(o.output.find("memory"), std::string::npos) << o.output;
+    EXPECT_EQ(o.output.find("internal error"), std::string::npos) << o.output;
+    EXPECT_EQ(o.output.find("terminate called"), std::string::npos) << o.output;
+    if (fs::exists(out()))
+      for (const auto &e : fs::directory_iterator(out())) ADD_FAILURE() << "left " << e.path();
   }
 }
 

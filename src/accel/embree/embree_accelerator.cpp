@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -175,6 +176,11 @@ EmbreeAccelerator::EmbreeAccelerator(const Scene &scene) : scene_(scene), unboun
   auto start = std::chrono::steady_clock::now();
   try {
     build();
+  } catch (const std::bad_alloc &) {
+    // Out of memory or threads inside Embree: releasing its objects then
+    // ends the process from inside Embree (std::terminate), so they are
+    // left to the process's exit, which the error leads to.
+    throw;
   } catch (...) {
     release();
     throw;
@@ -196,7 +202,12 @@ void EmbreeAccelerator::release() {
 
 void EmbreeAccelerator::build() {
   device_ = rtcNewDevice(nullptr);
-  if (!device_) throw std::runtime_error("Embree: cannot create a device");
+  // Embree's device fails to start for want of memory (its thread pool and
+  // allocators): say so, as any other allocation failure does.
+  if (!device_) {
+    if (rtcGetDeviceError(nullptr) == RTC_ERROR_OUT_OF_MEMORY) throw std::bad_alloc();
+    throw std::runtime_error("Embree: cannot create a device");
+  }
   rtcSetDeviceErrorFunction(device_, &EmbreeCallbacks::error, this);
   rtcSetDeviceMemoryMonitorFunction(device_, &EmbreeCallbacks::memory, this);
 
@@ -314,6 +325,9 @@ void EmbreeAccelerator::build() {
   stats_.primitives += unbounded_.size();
   rtcCommitScene(root_);
 
+  if (errorCode_.load() == RTC_ERROR_OUT_OF_MEMORY ||
+      std::strstr(errorMessage_, "pthread_create") != nullptr)
+    throw std::bad_alloc(); // reported as "out of memory"
   if (errorCode_.load() != 0)
     throw std::runtime_error("Embree error " + std::to_string(errorCode_.load()) + ": " +
                              std::string(errorMessage_));

@@ -25,7 +25,14 @@ const PreviewLibrary &previewLibrary() {
   static std::once_flag once;
   static const PreviewLibrary *library = nullptr;
   static std::string tried;
-  std::call_once(once, [] { library = load(tried); });
+  // Nothing may throw inside call_once (see shading/oiio_library.cpp).
+  std::call_once(once, [] {
+    try {
+      library = load(tried);
+    } catch (...) {
+      library = nullptr;
+    }
+  });
   if (!library) throw SceneError("--serve: cannot load LRay's preview server module:" + tried);
   return *library;
 }

@@ -210,7 +210,27 @@ TEST(PreviewServer, ServesOnlyItsRoutesToItsOwnOrigin) {
     return events.find("\n\n") == std::string::npos;
   });
   EXPECT_EQ(events.rfind("data: {", 0), 0u) << events;
+  // A body larger than any the page sends is refused before it is read.
+  EXPECT_EQ(client.Post("/control", own, std::string(1 << 20, ' '), "application/json")->status,
+            413);
   server.stop();
+}
+
+TEST(PreviewServer, OnALoopbackAliasAForeignHostIsRefused) {
+  for (const std::string host : {"127.0.0.2", "127.1"}) {
+    SCOPED_TRACE(host);
+    PreviewState state;
+    PreviewServer server(state, host, 0);
+    ASSERT_GT(server.port(), 0);
+    httplib::Client client(host == "127.1" ? "127.0.0.1" : host, server.port());
+    const std::string port = ":" + std::to_string(server.port());
+    auto foreign = client.Get("/", {{"Host", "evil.example" + port}});
+    ASSERT_TRUE(foreign);
+    EXPECT_EQ(foreign->status, 403);
+    EXPECT_EQ(client.Get("/status", {{"Host", host + port}})->status, 200);
+    EXPECT_EQ(client.Get("/status", {{"Host", "localhost" + port}})->status, 200);
+    server.stop();
+  }
 }
 
 } // namespace

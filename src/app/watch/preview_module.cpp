@@ -5,7 +5,9 @@
 // otherwise load.
 #include "app/watch/preview_server.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <nlohmann/json.hpp>
 
 #include <atomic>
@@ -19,6 +21,9 @@ namespace lray {
 
 namespace fs = std::filesystem;
 
+/// The largest request body the page sends is a small JSON object.
+constexpr size_t kMaxBody = 64 * 1024;
+
 struct PreviewServer::Impl {
   PreviewState &state;
   std::string host;
@@ -28,15 +33,27 @@ struct PreviewServer::Impl {
 
   explicit Impl(PreviewState &s) : state(s) {}
 
-  bool loopback() const { return host == "127.0.0.1" || host == "localhost" || host == "::1"; }
+  /// Listening on a loopback address: any of 127.0.0.0/8 (127.0.0.2 and
+  /// the short 127.1 included), ::1 or localhost.
+  bool loopback() const {
+    in_addr v4{};
+    in6_addr v6{};
+    if (host == "localhost" || (inet_pton(AF_INET6, host.c_str(), &v6) == 1 &&
+                                IN6_IS_ADDR_LOOPBACK(&v6)))
+      return true;
+    return inet_aton(host.c_str(), &v4) != 0 && (ntohl(v4.s_addr) >> 24) == 127;
+  }
 
-  /// The request's Host is one this server answers to.
+  /// The request's Host is one this server answers to: on a loopback
+  /// address only the loopback names and the address it was given (a
+  /// foreign name is a DNS-rebinding page of another site).
   bool hostAllowed(const httplib::Request &req) const {
     if (!loopback()) return true;
     const std::string h = req.get_header_value("Host");
-    for (const char *name : {"127.0.0.1", "localhost", "[::1]"})
-      if (h == std::string(name) + ":" + std::to_string(port) || (port == 80 && h == name))
-        return true;
+    const std::string given = host.find(':') != std::string::npos ? "[" + host + "]" : host;
+    for (const std::string &name : {std::string("127.0.0.1"), std::string("localhost"),
+                                    std::string("[::1]"), given})
+      if (h == name + ":" + std::to_string(port) || (port == 80 && h == name)) return true;
     return false;
   }
 
@@ -71,6 +88,14 @@ struct PreviewServer::Impl {
   void routes() {
     // Each open page holds a thread for its event stream: room for many.
     server.new_task_queue = [] { return new httplib::ThreadPool(32); };
+    // Bounds on what a client can make the server hold or wait for: the
+    // page's requests are a few hundred bytes; a stalled or trickling
+    // client is dropped after a few seconds.
+    server.set_payload_max_length(kMaxBody);
+    server.set_read_timeout(5, 0);
+    server.set_write_timeout(5, 0);
+    server.set_keep_alive_timeout(2);
+    server.set_keep_alive_max_count(20);
     server.set_post_routing_handler([](const httplib::Request &, httplib::Response &res) {
       res.set_header("X-Frame-Options", "DENY"); // no page of another site may frame Save
     });

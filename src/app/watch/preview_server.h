@@ -1,10 +1,8 @@
-// Pipeline: application (live preview). The page's HTTP server (cpp-httplib):
-// the page itself, the current image, its status as server-sent events, and
-// two actions (render another frame or with another backend; save the
-// image). No request path ever reaches the file system: there are only
-// these routes, everything else is 404. Requests from other origins are
-// refused for the event stream and the actions, and a server bound to
-// loopback answers only to loopback host names (no DNS rebinding).
+// Pipeline: application (live preview). The page's HTTP server, as lray
+// sees it: a module (liblray_preview.so) that serves the page, the current
+// image, its status and event stream and two actions from a thread of its
+// own. The routes are in preview_routes.h, the sockets, limits and
+// timeouts in http_loop.h.
 #pragma once
 
 #include "app/watch/preview_state.h"

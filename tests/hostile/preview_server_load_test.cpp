@@ -157,6 +157,13 @@ protected:
 
 TEST_F(HostileServer, EveryRouteIsAnsweredUnderLoadAndSigintEndsItWithinASecond) {
   ASSERT_EQ(ask(port_, get("/status")), "HTTP/1.1 200 OK");
+  { // A client that shuts its side after its request is still answered.
+    const int fd = connectTo(port_);
+    sendFor(fd, get("/status"));
+    shutdown(fd, SHUT_WR);
+    EXPECT_EQ(receive(fd, "\r\n", 2).substr(0, 15), "HTTP/1.1 200 OK");
+    close(fd);
+  }
   // 32 event streams, each answered with its head and the first event.
   for (int i = 0; i < 32; ++i) {
     const int fd = hold(get("/events"));

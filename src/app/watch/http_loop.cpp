@@ -34,6 +34,7 @@ struct HttpLoop::Connection {
   Clock::time_point since, deadline; ///< the phase's start and its end at the latest
   bool closeAfter = false;
   bool unframed = false; ///< input came that frameRequest has not seen
+  bool peerClosed = false; ///< the client shut its side after sending a request
   int answered = 0;
   size_t drained = 0;
   uint64_t version = 0; ///< Streaming: the version of the last event sent
@@ -146,7 +147,7 @@ void HttpLoop::run(HttpService &service) {
     for (auto &c : connections_) {
       short events = 0;
       if (c->out.size() > c->sent) events |= POLLOUT;
-      if (c->phase != Connection::Phase::Writing) events |= POLLIN;
+      if (c->phase != Connection::Phase::Writing && !c->peerClosed) events |= POLLIN;
       fds.push_back({c->fd, events, 0});
       if (c->phase != Connection::Phase::Streaming)
         timeout = std::min(timeout, millisecondsUntil(c->deadline, now));
@@ -241,6 +242,10 @@ void HttpLoop::readFrom(Connection &c) {
     const ssize_t n = ::recv(c.fd, buf, sizeof buf, 0);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
+    if (n == 0 && !c.in.empty() && c.phase == Connection::Phase::Reading) {
+      c.peerClosed = true; // sent its request and shut its side: answer it, then close
+      return;
+    }
     if (n <= 0) return close(c); // the client went, or the connection broke
     switch (c.phase) {
     case Connection::Phase::Draining:
@@ -270,9 +275,12 @@ void HttpLoop::answerBuffered(Connection &c, HttpService &service) {
     return;
   c.unframed = false;
   const RequestFrame f = frameRequest(c.in, limits_.request);
-  if (f.state == RequestFrame::State::Incomplete) return;
+  if (f.state == RequestFrame::State::Incomplete) {
+    if (c.peerClosed) close(c); // it will never be whole
+    return;
+  }
   if (f.state == RequestFrame::State::Refused) return queue(c, refusal(f.status, f.reason), true);
-  const bool last = ++c.answered >= limits_.maxRequestsPerConnection;
+  const bool last = ++c.answered >= limits_.maxRequestsPerConnection || c.peerClosed;
   HttpAnswer a =
       service.answer(std::string_view(c.in).substr(f.begin, f.length), last, c.peer, c.peerPort);
   c.in.erase(0, f.begin + f.length);

@@ -53,7 +53,7 @@ struct OiioLibrary {
                             const std::vector<std::string> &channels, const float *pixels);
   /// Writes `image` as an EXR with its windows and attributes; "" or why not.
   std::string (*writeFloatWindow)(const std::string &path, const FloatWindow &image);
-  /// Reads an image written by writeFloatWindow (any float image): its
+  /// Reads an EXR written by writeFloatWindow (no other format is tried): its
   /// header, and with `withPixels` its pixels; "" or why not. Refuses a
   /// header claiming more than kMaxTextureTexels pixels or 64 channels
   /// before allocating.

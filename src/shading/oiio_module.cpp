@@ -111,10 +111,14 @@ std::string writeFloatWindow(const std::string &path, const FloatWindow &image) 
 }
 
 std::string readFloatWindow(const std::string &path, FloatWindow &image, bool withPixels) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    return why.empty() ? std::string("cannot open it") : why;
+  // OpenEXR's reader only: ImageInput::open would try every format
+  // OpenImageIO knows on a file that is not a valid EXR (FFmpeg, LibRaw,
+  // DICOM...), a slow and needless surface for a crafted tile.
+  auto in = OIIO::ImageInput::create("openexr");
+  OIIO::ImageSpec opened;
+  if (!in || !in->open(path, opened)) {
+    std::string why = in ? in->geterror() : OIIO::geterror();
+    return why.empty() ? std::string("cannot open it as an EXR") : why;
   }
   const OIIO::ImageSpec &spec = in->spec();
   const size_t pixels = static_cast<size_t>(std::max(spec.width, 0)) * std::max(spec.height, 0);

@@ -4,6 +4,7 @@
 // the renderer does not load OpenImageIO's 260 libraries when a scene has
 // no image texture and the output is PNG or TGA.
 #include "shading/oiio_library.h"
+#include "shading/exr_header.h"
 #include "shading/texel_convert.h"
 
 #include <sys/resource.h>
@@ -111,6 +112,9 @@ std::string writeFloatWindow(const std::string &path, const FloatWindow &image) 
 }
 
 std::string readFloatWindow(const std::string &path, FloatWindow &image, bool withPixels) {
+  // The header's claims against the file's size before OpenEXR sizes its
+  // buffers by them (shading/exr_header.h).
+  if (std::string why = checkExrHeader(path, {kMaxTextureTexels, 64}); !why.empty()) return why;
   // OpenEXR's reader only: ImageInput::open would try every format
   // OpenImageIO knows on a file that is not a valid EXR (FFmpeg, LibRaw,
   // DICOM...), a slow and needless surface for a crafted tile.

@@ -916,6 +916,48 @@ TEST_F(Hostile, ATileClaimingAHugeFrameIsRefusedBeforeAllocating) {
   EXPECT_FALSE(fs::exists(fs::path(out()) / "big.png"));
 }
 
+/// Overwrites the bytes after `key` (an attribute's name and type, NULs
+/// included) in an EXR's header: the attribute's size, then its value.
+void patchExrHeader(const fs::path &path, const std::string &key, const std::vector<int32_t> &ints) {
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  std::memcpy(&bytes[at + key.size()], ints.data(), 4 * ints.size()); // little-endian, as EXR
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+TEST_F(Hostile, ATileHeaderClaimingMoreThanItsBytesIsRefusedBeforeOpenExrReadsIt) {
+  // Tiles of 1 KiB whose header claims 16384 x 16384 pixels of 12
+  // channels (12 GiB as floats), or an attribute of 1.8 GB (found by the
+  // merge_tile fuzz target: lray-merge grew to 1.9 GiB in OpenEXR's reader).
+  const std::string data("dataWindow\0box2i\0", 17), name("lray:final\0string\0", 18);
+  struct Case {
+    std::string key;
+    std::vector<int32_t> ints;
+    std::string message;
+  };
+  for (const Case &c : {Case{data, {16, 0, 0, 16383, 16383},
+                             "its header claims 16384 x 16384 pixels, more than its"},
+                        Case{name, {1887007752}, "its header is cut short or malformed"}}) {
+    SCOPED_TRACE(c.message);
+    fs::remove_all(out());
+    fs::create_directories(out());
+    const fs::path tile = fs::path(out()) / "big.tile-0-of-1.exr";
+    writeCraftedTile(tile, 16384, 16384, 0, 0, 1, 1, 12, "big.png");
+    patchExrHeader(tile, c.key, c.ints);
+    const Outcome o = runMerge({out()}, 20);
+    EXPECT_FALSE(o.timedOut);
+    EXPECT_EQ(o.status, 1) << o.output;
+    EXPECT_NE(o.output.find("big.tile-0-of-1.exr': " + c.message), std::string::npos) << o.output;
+    EXPECT_LT(o.peakKiB, 200 * 1024) << "peak memory";
+    EXPECT_FALSE(fs::exists(fs::path(out()) / "big.png"));
+  }
+}
+
 TEST_F(Hostile, OneBadTileLeavesTheGoodSetsToMergeAndIsNamed) {
   const std::string s =
       write("good.lua", "scene_info = SceneInfo() { image_width = 8, image_height = 40 }" + kScene);

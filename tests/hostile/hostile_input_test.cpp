@@ -918,7 +918,8 @@ TEST_F(Hostile, ATileClaimingAHugeFrameIsRefusedBeforeAllocating) {
 
 /// Overwrites the bytes after `key` (an attribute's name and type, NULs
 /// included) in an EXR's header: the attribute's size, then its value.
-void patchExrHeader(const fs::path &path, const std::string &key, const std::vector<int32_t> &ints) {
+void patchExrHeader(const fs::path &path, const std::string &key,
+                    const std::vector<int32_t> &ints) {
   std::string bytes;
   {
     std::ifstream in(path, std::ios::binary);

@@ -53,7 +53,9 @@ void registerTextureClasses(Registry &reg) {
       .attr("reflection", &Finish::reflection)
       .attr("refraction", &Finish::refraction)
       .attr("refraction_index", &Finish::refractionIndex)
-      .attr("absorption", &Finish::absorption);
+      .attr("absorption", &Finish::absorption)
+      .attr("emission", &Finish::emission, nonNegativeColor)
+      .attr("fresnel", &Finish::fresnel);
 
   // Texture maps: the first class of each C++ type is its default.
   reg.cls<Map2DObj>("TextureMap2D")

@@ -72,7 +72,16 @@ private:
     out.shape = e.shape;
     out.worldFromObject = transform(e.transform, out.loc, shapeName(e.shape));
     out.texture = texture(e.texture);
+    checkEmitter(out);
     return out;
+  }
+
+  /// Emission needs a finite area to come from (lua/README.md, Finish).
+  void checkEmitter(const Entity &e) const {
+    const bool emits = !out_.textures[e.texture].finish.emission.isBlack();
+    if (emits && std::holds_alternative<Plane>(e.shape))
+      throw SceneError(e.loc, "Plane: its finish emits (emission), but a plane has no finite area "
+                              "to emit from");
   }
 
   // ---- CSG ---------------------------------------------------------------------
@@ -111,6 +120,7 @@ private:
     out.worldFromObject = place(parentWorld, e.transform, out.loc, shapeName(out.shape));
     inheritsTexture = !e.texture && inherited.set;
     if (inheritsTexture) out.texture = texture(inherited.texture);
+    checkEmitter(out);
     return out;
   }
 

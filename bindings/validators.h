@@ -2,8 +2,13 @@
 // what was expected when the value is rejected, else null.
 #pragma once
 
+#include "math/color.h"
+
 namespace lray::lua {
 
+inline const char *nonNegativeColor(const Color &c) {
+  return c.r >= 0 && c.g >= 0 && c.b >= 0 ? nullptr : "a colour with components >= 0";
+}
 inline const char *positiveInteger(const int &v) { return v > 0 ? nullptr : "a positive integer"; }
 inline const char *positiveNumber(const double &v) { return v > 0 ? nullptr : "a positive number"; }
 inline const char *nonNegativeNumber(const double &v) {

@@ -51,6 +51,11 @@ struct Finish {
   double refraction = 0;
   double refractionIndex = 1.0;
   double absorption = 0.5;
+  /// Radiance leaving the surface on the side its normal points to.
+  Color emission{0, 0, 0};
+  /// Reflection and refraction weights times the dielectric Fresnel
+  /// reflectance F and 1 - F of refractionIndex.
+  bool fresnel = false;
 };
 
 /// A pigment (lua/README.md, "Textures, finishes and pigments"): one of shading/pigments/ with its

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/spawn.h"
+#include "shading/fresnel.h"
 #include "shading/integrator.h"
 #include "shading/phong.h"
 
@@ -173,6 +174,7 @@ Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double
   Surface s;
   surfaceAt(ray, hit, s);
   Color c = s.pigment * s.m->finish.ambient;
+  if (s.m->emits && s.entering) c += s.m->finish.emission; // seen from its emitting side
   if (s.m->lit) {
     typename LightScratch::Pending pending;
     Ray shadowRay;
@@ -219,6 +221,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
     }
     const Surface &s = surface[i];
     Color c = s.pigment * s.m->finish.ambient;
+    if (s.m->emits && s.entering) c += s.m->finish.emission;
     if (s.m->lit) c += lightSum[i];
     out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts);
   }
@@ -235,13 +238,19 @@ Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c,
   double dn = dot(dir, n);
   Vec3 mirrorDir = dir - n * (2 * dn);
   double kr = m.reflects ? f.reflection : 0;
+  double kt = m.refracts ? f.refraction : 0;
+  const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
+  const double cosI = std::clamp(-dn, 0.0, 1.0);
+  if (f.fresnel) { // F is 1 under total internal reflection: nothing is refracted
+    const double fr = fresnelReflectance(cosI, eta);
+    kr *= fr;
+    kt *= 1 - fr;
+  }
 
-  if (m.refracts && f.refraction * weight >= kBailout) {
-    double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-    double cosI = std::clamp(-dn, 0.0, 1.0);
+  if (kt > 0 && kt * weight >= kBailout) {
     double k = 1 - eta * eta * (1 - cosI * cosI);
     if (k < 0) {
-      kr += f.refraction; // total internal reflection: the energy follows the mirror ray
+      kr += kt; // total internal reflection: the energy follows the mirror ray
     } else {
       Vec3 tDir = normalize(dir * eta + n * (eta * cosI - std::sqrt(k)));
       Ray refracted = spawnRay(hit, tDir);
@@ -250,11 +259,11 @@ Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c,
       Color seen = background_;
       double d = 0; // distance travelled inside the object
       if (accel_.intersect(refracted, next)) {
-        seen = shade(refracted, next, depth + 1, weight * f.refraction, sampler, counts);
+        seen = shade(refracted, next, depth + 1, weight * kt, sampler, counts);
         if (s.entering) d = next.t; // tDir is unit, so t is a distance
       }
       double attenuation = d > 0 ? std::exp(-std::max(0.0, f.absorption) * d) : 1.0;
-      c += seen * (f.refraction * attenuation);
+      c += seen * (kt * attenuation);
     }
   }
 

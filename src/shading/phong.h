@@ -20,6 +20,7 @@ struct Material {
   bool lit = false;      ///< diffuse or specular non-zero and some light exists
   bool reflects = false; ///< reflection > 0
   bool refracts = false; ///< refraction > 0
+  bool emits = false;    ///< emission not black
   /// The specular exponent when it is an integer in [0, 64] (the common
   /// case: powers by squaring instead of std::pow), else -1.
   int integerExponent = -1;
@@ -32,6 +33,7 @@ struct Material {
     m.lit = (finish.diffuse != 0 || finish.specular != 0) && anyLight;
     m.reflects = finish.reflection > 0;
     m.refracts = finish.refraction > 0;
+    m.emits = !finish.emission.isBlack();
     double e = finish.exponent;
     if (e >= 0 && e <= 64 && e == std::floor(e)) m.integerExponent = static_cast<int>(e);
     if (!(finish.refractionIndex > 0) || !std::isfinite(finish.refractionIndex))

@@ -90,6 +90,31 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(num("scene_info.frames"), 4);
 }
 
+TEST_F(BindingErrorTest, EmissionIsAColourOfNonNegativeRadianceAndNeedsAnArea) {
+  EXPECT_EQ(runLua("Finish().emission = 2"),
+            "test.lua:1: Finish: attribute 'emission' expects a Color, got number");
+  EXPECT_EQ(runLua("Finish().emission = Color(1, -0.5, 0)"),
+            "test.lua:1: Finish: attribute 'emission' expects a colour with components >= 0, got "
+            "Color");
+  EXPECT_EQ(runLua("Finish().fresnel = 1"),
+            "test.lua:1: Finish: attribute 'fresnel' expects a boolean, got number");
+  ASSERT_EQ(runLua("lamp = Texture() { finish = Finish() { emission = white } }\n"
+                   "s = Scene()\n"
+                   "s:add_entity(Sphere() { texture = lamp })\n"
+                   "s:add_entity(Plane() { texture = lamp })\n"
+                   "t = Scene()\n"
+                   "t:add_entity(Difference {\n"
+                   "  Sphere() { texture = lamp }, Plane() { texture = lamp } })\n"
+                   "u = Scene()\n"
+                   "u:add_entity(Sphere() { texture = lamp })\n"),
+            "");
+  EXPECT_EQ(conversionError("s"), "test.lua:4: Plane: its finish emits (emission), but a plane "
+                                  "has no finite area to emit from");
+  EXPECT_EQ(conversionError("t"), "test.lua:7: Plane: its finish emits (emission), but a plane "
+                                  "has no finite area to emit from");
+  EXPECT_EQ(conversionError("u"), "no error");
+}
+
 TEST_F(BindingErrorTest, TextureMapsMustMatchThePigmentDimension) {
   EXPECT_EQ(runLua("CheckerPigment2D().texture_map = LinearMap()"),
             "test.lua:1: CheckerPigment2D: attribute 'texture_map' expects a 2-D texture map "

@@ -4,6 +4,8 @@
 // through a brute-force test accelerator.
 #include "shading/integrator.h"
 
+#include "shading/fresnel.h"
+
 #include "shading/brute_force_accelerator.h"
 
 #include <OpenImageIO/imageio.h>
@@ -393,6 +395,14 @@ TEST_P(IntegratorTest, TotalInternalReflectionFollowsTheMirrorRay) {
   expectColor(out.color, kSky);
   EXPECT_EQ(out.counts.refraction, 1u);
   EXPECT_EQ(out.counts.reflection, 0u);
+
+  // With fresnel, F = 1 under total internal reflection: the reflection
+  // weight (1 here) takes it all, and nothing is refracted.
+  b.scene.textures[0].finish.fresnel = true;
+  b.scene.textures[0].finish.reflection = 1;
+  Traced fresnel = traceOnce(b.scene, rayFrom(-d60 * 2, d60));
+  expectColor(fresnel.color, kRed);
+  EXPECT_EQ(fresnel.counts.refraction, 0u);
 }
 
 TEST_P(IntegratorTest, LeavingRayIsNotAttenuated) {
@@ -608,6 +618,79 @@ TEST_P(IntegratorTest, SpotLightFadesSmoothlyBetweenAngleAndFalloff) {
     previous = r.color.r;
     EXPECT_EQ(r.counts.shadow, deg < 45 ? 1u : 0u) << deg;
   }
+}
+
+TEST_P(IntegratorTest, EmissionIsAddedOnTheEmittingSideOnly) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish lamp = dark();
+  lamp.emission = {2, 1, 0.5};
+  b.add(ShapeKind::Sphere, Transform(), b.texture(lamp));
+  b.light(Transform::translate({0, 0, -10})); // lights nothing: no diffuse, no specular
+  Traced out = traceOnce(b.scene, rayFrom({0, 0, -5}, {0, 0, 1}));
+  expectColor(out.color, {2, 1, 0.5}); // seen directly: its radiance
+  EXPECT_EQ(out.counts.shadow, 0u);
+  // From inside the sphere the surface shows its back: nothing is emitted there.
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1})).color, {0, 0, 0});
+  // A mirror sees it at its weight, like any other colour.
+  Finish mirror = dark();
+  mirror.reflection = 0.5;
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 5}) * Transform::scale(10, 10, 1),
+        b.texture(mirror));
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 2}, {0, 0, 1})).color, {1, 0.5, 0.25});
+}
+
+TEST(Fresnel, DielectricReflectanceAtKnownAngles) {
+  // Normal incidence: ((n1 - n2) / (n1 + n2))^2, either way through the boundary.
+  EXPECT_NEAR(fresnelReflectance(1, 1 / 1.5), 0.04, 1e-15);
+  EXPECT_NEAR(fresnelReflectance(1, 1.5), 0.04, 1e-15);
+  EXPECT_NEAR(fresnelReflectance(1, 1), 0, 1e-15);
+  // Brewster's angle, tan(theta) = n2 / n1: the p-polarised half vanishes,
+  // F = Rs^2 / 2 with Rs = cos(2 theta).
+  const double brewster = std::atan(1.5);
+  const double rs = std::cos(2 * brewster);
+  EXPECT_NEAR(fresnelReflectance(std::cos(brewster), 1 / 1.5), 0.5 * rs * rs, 1e-12);
+  // Grazing: everything is reflected; beyond the critical angle too.
+  EXPECT_NEAR(fresnelReflectance(0, 1 / 1.5), 1, 1e-12);
+  EXPECT_EQ(fresnelReflectance(std::cos(60 * std::numbers::pi / 180), 1.5), 1);
+  // Monotone in the angle on entering.
+  double previous = 0;
+  for (int deg = 0; deg <= 90; ++deg) {
+    const double f = fresnelReflectance(std::cos(deg * std::numbers::pi / 180), 1 / 1.5);
+    EXPECT_GE(f, previous - 1e-15) << deg;
+    previous = f;
+  }
+}
+
+TEST_P(IntegratorTest, FresnelSplitsReflectionAndRefraction) {
+  // A glass slab seen head on: reflection F = 0.04 of a red sphere behind
+  // the camera, refraction 1 - F at each of the two faces to the sky.
+  SceneBuilder b;
+  b.scene.background = kSky;
+  Finish glass = dark();
+  glass.reflection = 1;
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0;
+  glass.fresnel = true;
+  b.add(ShapeKind::Cube, Transform::translate({0, 0, 5}) * Transform::scale(40, 40, 2),
+        b.texture(glass));
+  b.add(ShapeKind::Sphere, Transform::translate({0, 0, -5}), b.texture(ambientOnly(), kRed));
+  const Traced r = traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1}));
+  // In through the front (0.96), then at the back: out (0.96) to the sky,
+  // or back (0.04) through the front (0.96) to the red sphere; the next
+  // bounce inside weighs 0.96 * 0.04 * 0.04 < 1/255 and is not traced.
+  const double f = 0.04, t = 0.96;
+  expectColor(r.color, kRed * f + kSky * (t * t) + kRed * (t * f * t), 1e-12);
+  // Without fresnel the same weights give mirror and refraction at full weight.
+  b.scene.textures[0].finish.fresnel = false;
+  b.scene.textures[0].finish.reflection = 0;
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1})).color, kSky);
+  // Refraction off: fresnel scales the mirror ray alone.
+  b.scene.textures[0].finish.fresnel = true;
+  b.scene.textures[0].finish.reflection = 1;
+  b.scene.textures[0].finish.refraction = 0;
+  expectColor(traceOnce(b.scene, rayFrom({0, 0, 0}, {0, 0, 1})).color, kRed * f, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, IntegratorTest, ::testing::Values(false, true),

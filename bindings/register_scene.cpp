@@ -118,6 +118,8 @@ void registerSceneClasses(Registry &reg) {
       .attr("frames", &SceneInfo::frames, positiveInteger)
       .attr("samples", &SceneInfo::samples, positiveInteger)
       .attr("noise_threshold", &SceneInfo::noiseThreshold, nonNegativeNumber)
+      .attr("integrator", &SceneInfo::integrator, integratorName)
+      .attr("max_depth", &SceneInfo::maxDepth, positiveInteger)
       .attr("start_clock", &SceneInfo::startClock)
       .attr("end_clock", &SceneInfo::endClock);
 

@@ -4,10 +4,15 @@
 
 #include "math/color.h"
 
+#include <string>
+
 namespace lray::lua {
 
 inline const char *nonNegativeColor(const Color &c) {
   return c.r >= 0 && c.g >= 0 && c.b >= 0 ? nullptr : "a colour with components >= 0";
+}
+inline const char *integratorName(const std::string &v) {
+  return v == "whitted" || v == "path" ? nullptr : "\"whitted\" or \"path\"";
 }
 inline const char *positiveInteger(const int &v) { return v > 0 ? nullptr : "a positive integer"; }
 inline const char *positiveNumber(const double &v) { return v > 0 ? nullptr : "a positive number"; }

@@ -6,6 +6,7 @@
 #include "accel/embree/embree_accelerator.h"
 #include "accel/kdtree/kdtree_accelerator.h"
 #include "render/tile_renderer_impl.h"
+#include "shading/path_integrator_impl.h"
 
 #include <cassert>
 #include <stdexcept>
@@ -34,7 +35,8 @@ void render(const Accelerator &accel, const Scene &scene, const ImageCache &imag
 
 template <class Accel>
 constexpr BackendEntry entry(const char *name, BackendKind kind) {
-  return {name, kind, &make<Accel>, &built<Accel>, {&render<Accel, Integrator>}};
+  return {name, kind, &make<Accel>, &built<Accel>,
+          {&render<Accel, Integrator>, &render<Accel, PathIntegrator>}};
 }
 
 constexpr BackendEntry kBackends[] = {

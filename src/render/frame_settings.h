@@ -12,9 +12,10 @@ namespace lray {
 /// How light transport is computed (render/backends.cpp pairs each with
 /// each backend).
 enum class IntegratorKind {
-  Whitted, ///< lua/README.md, "Shading": lights, mirror and refraction rays
+  Whitted, ///< lua/README.md, "The shading equation": lights, mirror and refraction rays
+  Path,    ///< lua/README.md, "Light transport": a physically based path tracer
 };
-constexpr size_t kIntegratorKinds = 1;
+constexpr size_t kIntegratorKinds = 2;
 
 /// How a pixel sample lights a point under an area light of K cells.
 enum class LightSampling {
@@ -52,6 +53,7 @@ struct FrameSettings {
            (static_cast<uint64_t>(seed) << 32);
   }
   IntegratorKind integrator = IntegratorKind::Whitted;
+  int maxDepth = 8; ///< Path: the most scattering events of a path
   bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
   AdaptiveSettings adaptiveSettings;
   LightSampling lightSampling = LightSampling::All;

@@ -16,9 +16,9 @@ namespace {
 std::string raysJson(const RayCounts &r) {
   return fmt::format(
       R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, )"
-      R"("refraction": {}, "total": {}}})",
-      r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction,
-      r.camera + r.shadow + r.reflection + r.refraction);
+      R"("refraction": {}, "diffuse": {}, "total": {}}})",
+      r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction, r.diffuse,
+      r.camera + r.shadow + r.reflection + r.refraction + r.diffuse);
 }
 
 std::string errorJson(bool has, double value) {

@@ -78,7 +78,10 @@ std::vector<PlanSetting> RunPlan::settings() const {
   // The order is the JSON's; a setting that cannot change a pixel says so.
   return {
       {"backend", jsonString(backendName(backend))},
-      {"integrator", jsonString("whitted")},
+      {"integrator",
+       jsonString(frameSettings.integrator == IntegratorKind::Path ? "path" : "whitted")},
+      {"max_depth", std::to_string(frameSettings.maxDepth),
+       frameSettings.integrator == IntegratorKind::Path},
       {"width", std::to_string(info.imageWidth)},
       {"height", std::to_string(info.imageHeight)},
       {"samples", std::to_string(info.samples)},

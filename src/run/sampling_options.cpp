@@ -64,6 +64,15 @@ public:
                  "Area lights: 'all' (every sample shades every cell; default for fixed "
                  "sampling) or 'spread' (a pixel's samples share the cells; default for adaptive)")
         ->type_name("MODE");
+    g.add_option("--integrator", o.integrator,
+                 "Light transport: 'whitted' (the shading equation) or 'path' (a physically "
+                 "based path tracer; overrides scene_info)")
+        ->type_name("NAME")
+        ->check(CLI::IsMember({"whitted", "path"}));
+    g.add_option("--max-depth", o.maxDepth,
+                 "Path tracing: the most scattering events of a path (default 8; overrides "
+                 "scene_info)")
+        ->check(positive);
     g.add_flag("--no-shadow-skips", o.noShadowSkips,
                "Trace every shadow ray, even where nothing lies between a tile and a light "
                "(the same image; for measuring)");
@@ -106,6 +115,8 @@ SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options
   if (options.width) info.imageWidth = *options.width;
   if (options.height) info.imageHeight = *options.height;
   if (options.samples) info.samples = *options.samples;
+  if (options.integrator) info.integrator = *options.integrator;
+  if (options.maxDepth) info.maxDepth = *options.maxDepth;
   validateSceneInfo(info, options.maxPixelCount(), options.scenePath);
   if (options.lastFrame && *options.lastFrame >= info.frames)
     throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",
@@ -135,6 +146,8 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   if (a.minSamples > 1 && a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
   s.aovs = options.aovs;
   s.seed = options.seed;
+  s.integrator = info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;
+  s.maxDepth = info.maxDepth;
   s.shadowSkips = !options.noShadowSkips;
   s.lightSampling =
       options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);

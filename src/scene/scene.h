@@ -27,6 +27,8 @@ struct SceneInfo {
   int frames = 1;
   int samples = 1; ///< n: an n x n grid of samples per pixel
   double noiseThreshold = 0; ///< > 0: adaptive sampling to this error estimate
+  std::string integrator = "whitted"; ///< "whitted" or "path" (lua/README.md, "Light transport")
+  int maxDepth = 8; ///< path: the most scattering events of a path
   double startClock = 0;
   double endClock = 1;
 

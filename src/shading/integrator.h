@@ -14,6 +14,7 @@
 #include "math/ray.h"
 #include "scene/scene.h"
 #include "shading/image_cache.h"
+#include "shading/integrator_options.h"
 #include "shading/material_table.h"
 #include "shading/pigment.h"
 #include "shading/ray_counts.h"
@@ -47,16 +48,16 @@ public:
   /// Precomputes the material table, prepared lights and resolved image
   /// pointers once per frame. `scene`, `accel` and `images` must outlive it.
   /// Throws SceneError if an image of the scene was not loaded into `images`.
-  /// `lightShares` > 1 spreads each light's cells over a pixel's samples:
+  /// `options.lightShares` > 1 spreads each light's cells over a pixel's samples:
   /// a light of K cells is cut into G = min(lightShares, K) interleaved
   /// shares (cells t, t + G, t + 2G, ...); a sample shades only share
   /// `sampler.lightStratum % G`, each cell weighted G. A pixel's stratum is
   /// offset by a random amount, so every share is equally likely for every
   /// sample and the expected value is that of shading every cell (1).
-  /// `shadowSkips`: a tile's shadow rays towards a light whose shaft no
-  /// occluder meets are not traced (shadow_shaft.h; the same image).
+  /// `options.shadowSkips`: a tile's shadow rays towards a light whose shaft
+  /// no occluder meets are not traced (shadow_shaft.h; the same image).
   Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
-             uint32_t lightShares = 1, bool shadowSkips = true);
+             const IntegratorOptions &options = {});
   // Holds pointers into its own tables.
   Integrator(const Integrator &) = delete;
   Integrator &operator=(const Integrator &) = delete;
@@ -89,14 +90,23 @@ public:
     return evaluatePigment(pigmentTable_, materials_.ofHit(hit).pigment, hit);
   }
 
-private:
-  /// What shading needs of a hit before any ray is traced.
+  /// What shading needs of a hit before any ray is traced (also a vertex
+  /// of the path tracer, path_integrator.h).
   struct Surface {
     const Material *m = nullptr;
     bool entering = false; ///< the ray arrives from the geometric normal's side
     Vec3 n, dir, v;        ///< N (facing the ray), normalize(ray.d), V
     Color pigment;
   };
+  /// Fills `s` in place (a Surface returned by value and then copied into
+  /// shadeTile's array cost a store-forwarding stall per field).
+  void surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const;
+  /// The light of the scene's lights at a hit, as the shading equation's
+  /// sum over lights gives it (diffuse and highlight, shadow rays traced);
+  /// black where the material is not lit.
+  Color directLight(const Hit &hit, const Surface &s, Sampler &sampler, RayCounts &counts) const;
+
+private:
   /// Where a light sample lies as seen from a hit: the unit direction to
   /// it, N.L and the light it brings.
   struct LightDir {
@@ -119,9 +129,6 @@ private:
 
   Color traceRay(const Ray &ray, int depth, double weight, Sampler &sampler,
                  RayCounts &counts) const;
-  /// Fills `s` in place (a Surface returned by value and then copied into
-  /// shadeTile's array cost a store-forwarding stall per field).
-  void surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const;
   Color shade(const Ray &ray, const Hit &hit, int depth, double weight, Sampler &sampler,
               RayCounts &counts) const;
 

@@ -32,11 +32,11 @@ inline std::vector<LightSampler> prepareLights(const Scene &scene) {
 
 template <class Accel>
 Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const ImageCache &images,
-                              uint32_t lightShares, bool shadowSkips)
+                              const IntegratorOptions &options)
     : accel_(accel), background_(scene.background),
       lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()),
-      lightShares_(std::max<uint32_t>(1, lightShares)) {
-  if (shadowSkips && !lights_.empty()) shafts_ = ShadowShafts(scene);
+      lightShares_(std::max<uint32_t>(1, options.lightShares)) {
+  if (options.shadowSkips && !lights_.empty()) shafts_ = ShadowShafts(scene);
   images_.reserve(scene.images.size());
   for (const ImageRef &ref : scene.images) {
     const TextureImage *image = images.find(ref.path);
@@ -175,16 +175,21 @@ Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double
   surfaceAt(ray, hit, s);
   Color c = s.pigment * s.m->finish.ambient;
   if (s.m->emits && s.entering) c += s.m->finish.emission; // seen from its emitting side
-  if (s.m->lit) {
-    typename LightScratch::Pending pending;
-    Ray shadowRay;
-    uint8_t blocked;
-    Color sum;
-    addDirectLight(&hit, &s, nullptr, &sampler, 1, false, {&pending, &shadowRay, &blocked}, &sum,
-                   counts);
-    c += sum;
-  }
+  if (s.m->lit) c += directLight(hit, s, sampler, counts);
   return addSecondary(hit, s, c, depth, weight, sampler, counts);
+}
+
+template <class Accel>
+Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &sampler,
+                                     RayCounts &counts) const {
+  if (!s.m->lit) return Color();
+  typename LightScratch::Pending pending;
+  Ray shadowRay;
+  uint8_t blocked;
+  Color sum;
+  addDirectLight(&hit, &s, nullptr, &sampler, 1, false, {&pending, &shadowRay, &blocked}, &sum,
+                 counts);
+  return sum;
 }
 
 template <class Accel> struct Integrator<Accel>::TileScratch {

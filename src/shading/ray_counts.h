@@ -13,6 +13,8 @@ struct RayCounts {
   uint64_t shadowSkipped = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
+  /// The path tracer's diffusely scattered rays (path_integrator.h).
+  uint64_t diffuse = 0;
   /// Samples whose colour came out NaN or Inf (replaced by black; must stay 0).
   uint64_t nonFinite = 0;
 
@@ -22,6 +24,7 @@ struct RayCounts {
     shadowSkipped += o.shadowSkipped;
     reflection += o.reflection;
     refraction += o.refraction;
+    diffuse += o.diffuse;
     nonFinite += o.nonFinite;
     return *this;
   }

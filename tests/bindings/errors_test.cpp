@@ -115,6 +115,17 @@ TEST_F(BindingErrorTest, EmissionIsAColourOfNonNegativeRadianceAndNeedsAnArea) {
   EXPECT_EQ(conversionError("u"), "no error");
 }
 
+TEST_F(BindingErrorTest, TheIntegratorIsNamedAndItsDepthPositive) {
+  EXPECT_EQ(runLua("SceneInfo().integrator = 'pathtracer'"),
+            "test.lua:1: SceneInfo: attribute 'integrator' expects \"whitted\" or \"path\", got "
+            "'pathtracer'");
+  EXPECT_EQ(runLua("SceneInfo().integrator = 1"),
+            "test.lua:1: SceneInfo: attribute 'integrator' expects a string, got number");
+  EXPECT_EQ(runLua("SceneInfo().max_depth = 0"),
+            "test.lua:1: SceneInfo: attribute 'max_depth' expects a positive integer, got 0");
+  EXPECT_EQ(runLua("SceneInfo() { integrator = 'path', max_depth = 3 }"), "");
+}
+
 TEST_F(BindingErrorTest, TextureMapsMustMatchThePigmentDimension) {
   EXPECT_EQ(runLua("CheckerPigment2D().texture_map = LinearMap()"),
             "test.lua:1: CheckerPigment2D: attribute 'texture_map' expects a 2-D texture map "

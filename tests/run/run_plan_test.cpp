@@ -41,6 +41,8 @@ const SettingPair kRenderSettings[] = {
      "--noise-threshold 0.001 --max-samples 4 --time-limit 1000"},
     {"--seed", "-s 2", "-s 2 --seed 7"},
     {"--light-sampling", "-s 2", "-s 2 --light-sampling spread"},
+    {"--integrator", "", "--integrator path"},
+    {"--max-depth", "--integrator path", "--integrator path --max-depth 1"},
     {"--linear", "", "--linear"},
     {"--aovs", "-f exr", "-f exr --aovs"},
     {"--no-shadow-skips", "", "--no-shadow-skips"},
@@ -168,7 +170,8 @@ TEST_F(RunPlanTest, StatsCarryThePlansSettings) {
                      " --quiet --seed 5 --stats " + stats.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string json = readFile(stats);
-  EXPECT_NE(json.find(R"("settings": {"backend":"embree","integrator":"whitted","width":16,)"),
+  EXPECT_NE(json.find(R"("settings": {"backend":"embree","integrator":"whitted","max_depth":8,)"
+                      R"("width":16,)"),
             std::string::npos)
       << json;
   EXPECT_NE(json.find(R"("seed":5,)"), std::string::npos) << json;

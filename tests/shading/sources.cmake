@@ -2,4 +2,5 @@ list(APPEND LRAY_TEST_SOURCES tests/shading/pigments/perlin_noise_test.cpp tests
      tests/shading/pigment_test.cpp tests/shading/image_cache_test.cpp
      tests/shading/integrator_test.cpp tests/shading/brute_force_render.cpp
      tests/shading/spot_light_test.cpp tests/shading/shadow_shaft_test.cpp
-     tests/shading/exr_header_test.cpp src/shading/exr_header.cpp)
+     tests/shading/exr_header_test.cpp src/shading/exr_header.cpp
+     tests/shading/path_integrator_test.cpp)

@@ -1,0 +1,122 @@
+// Pipeline: shading. The definitions of path_integrator.h. Included only
+// where the path tracer is instantiated for a concrete backend
+// (render/backends.cpp, and the tests' brute-force accelerator).
+#pragma once
+
+#include "math/onb.h"
+#include "math/spawn.h"
+#include "shading/fresnel.h"
+#include "shading/integrator_impl.h"
+#include "shading/path_integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace lray {
+
+template <class Accel>
+PathIntegrator<Accel>::PathIntegrator(const Scene &scene, const Accel &accel,
+                                      const ImageCache &images, const IntegratorOptions &options)
+    : accel_(accel), local_(scene, accel, images, options), background_(scene.background),
+      maxDepth_(std::max(1, options.maxDepth)) {}
+
+template <class Accel>
+void PathIntegrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
+                                      Sampler *samplers, size_t count, Color *out,
+                                      RayCounts &counts) const {
+  for (size_t i = 0; i < count; ++i)
+    out[i] = found[i] ? path(rays[i], hits[i], true, samplers[i], counts) : background_;
+}
+
+template <class Accel>
+Color PathIntegrator<Accel>::trace(const Ray &ray, Sampler &sampler, RayCounts &counts) const {
+  Hit hit;
+  const bool found = accel_.intersect(ray, hit);
+  return path(ray, hit, found, sampler, counts);
+}
+
+template <class Accel>
+Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler,
+                                  RayCounts &counts) const {
+  using Surface = typename Integrator<Accel>::Surface;
+  Color radiance, beta(1, 1, 1); // beta: the path's throughput so far
+  double absorption = 0;         // of the medium the current segment crosses (0: none)
+  for (int vertex = 1;; ++vertex) {
+    if (!found) {
+      radiance += beta * background_; // a constant environment
+      break;
+    }
+    // Beer's law along a segment inside an absorbing object (a segment that
+    // leaves it and hits nothing is not attenuated, as in the Whitted image).
+    if (absorption > 0) beta *= std::exp(-absorption * hit.t * length(ray.d));
+    Surface s;
+    local_.surfaceAt(ray, hit, s);
+    const Material &m = *s.m;
+    const Finish &f = m.finish;
+    if (m.emits && s.entering) radiance += beta * f.emission;
+    if (m.lit) radiance += beta * local_.directLight(hit, s, sampler, counts);
+    if (vertex >= maxDepth_) break;
+
+    // The lobes and their weights: Lambertian diffuse of albedo diffuse * P,
+    // mirror reflection and refraction (times F and 1 - F with fresnel).
+    const Color albedo(std::max(0.0, s.pigment.r * f.diffuse),
+                       std::max(0.0, s.pigment.g * f.diffuse),
+                       std::max(0.0, s.pigment.b * f.diffuse));
+    const double wd = (albedo.r + albedo.g + albedo.b) / 3;
+    double kr = m.reflects ? f.reflection : 0;
+    double kt = m.refracts ? f.refraction : 0;
+    const double dn = dot(s.dir, s.n);
+    const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
+    const double cosI = std::clamp(-dn, 0.0, 1.0);
+    if (f.fresnel) {
+      const double fr = fresnelReflectance(cosI, eta);
+      kr *= fr;
+      kt *= 1 - fr;
+    }
+    const double total = wd + kr + kt;
+    if (!(total > 0)) break;
+
+    // One lobe, chosen with probability weight / total: the throughput
+    // takes the lobe's weight over that probability.
+    const double pick = sampler.next() * total;
+    const Vec3 mirror = s.dir - s.n * (2 * dn);
+    Vec3 next;
+    if (pick < wd) {
+      // Cosine-weighted about N: the Lambertian BRDF albedo / pi times cos
+      // over the pdf cos / pi leaves the albedo.
+      const double u1 = sampler.next(), u2 = sampler.next();
+      const double r = std::sqrt(u1), phi = 2 * std::numbers::pi * u2;
+      next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), std::sqrt(1 - u1));
+      beta = beta * albedo * (total / wd);
+      absorption = 0;
+      ++counts.diffuse;
+    } else if (pick < wd + kr) {
+      next = mirror;
+      beta *= total;
+      absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
+      ++counts.reflection;
+    } else {
+      const double k = 1 - eta * eta * (1 - cosI * cosI);
+      if (k < 0) { // total internal reflection: the refraction weight follows the mirror
+        next = mirror;
+        absorption = s.entering ? 0 : std::max(0.0, f.absorption);
+      } else {
+        next = normalize(s.dir * eta + s.n * (eta * cosI - std::sqrt(k)));
+        absorption = s.entering ? std::max(0.0, f.absorption) : 0;
+      }
+      beta *= total;
+      ++counts.refraction;
+    }
+    if (vertex >= kRouletteFrom) {
+      const double keep = std::min(1.0, beta.maxComponent());
+      if (!(keep > 0) || sampler.next() >= keep) break;
+      beta = beta / keep;
+    }
+    ray = spawnRay(hit, next);
+    found = accel_.intersect(ray, hit);
+  }
+  return radiance;
+}
+
+} // namespace lray

@@ -1,0 +1,255 @@
+// Tests for src/shading/path_integrator (lua/README.md, "Light transport"):
+// max_depth = 1 is the Whitted image without ambient, a white furnace keeps
+// its energy (diffuse and Fresnel glass), emission seen directly is its
+// radiance, interreflection inside a closed emitting box sums the series
+// of its albedo to max_depth, and every backend renders the same frame.
+#include "render/backends.h"
+#include "render/renderer.h"
+#include "shading/brute_force_accelerator.h"
+#include "shading/image_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+namespace lray {
+namespace {
+
+uint32_t addTexture(Scene &scene, const Finish &finish, const Color &color = {1, 1, 1}) {
+  Pigment p;
+  p.pattern = ColorPigment{color};
+  scene.pigments.push_back(p);
+  scene.textures.push_back({finish, static_cast<uint32_t>(scene.pigments.size() - 1)});
+  return static_cast<uint32_t>(scene.textures.size() - 1);
+}
+
+void addEntity(Scene &scene, ShapeKind kind, const Transform &t, uint32_t texture) {
+  Entity e;
+  e.shape = makeShape(kind);
+  e.worldFromObject = t;
+  e.texture = texture;
+  scene.entities.push_back(e);
+}
+
+/// Only what the lobes carry: no ambient, no highlight.
+Finish matte(double diffuse) {
+  Finish f;
+  f.ambient = {};
+  f.diffuse = diffuse;
+  f.specular = 0;
+  return f;
+}
+
+FrameSettings settings(int size, int samples, IntegratorKind integrator, int maxDepth = 8) {
+  FrameSettings s;
+  s.width = s.height = size;
+  s.samples = samples;
+  s.integrator = integrator;
+  s.maxDepth = maxDepth;
+  return s;
+}
+
+/// A frame with backend `kind` (or the tests' brute-force accelerator).
+Film render(const Scene &scene, const FrameSettings &s, std::optional<BackendKind> kind = {}) {
+  ImageCache images(false);
+  RayCounts counts;
+  if (!kind) {
+    testing::BruteForceAccelerator brute(scene, true);
+    return testing::renderFrame(scene, brute, images, s, counts);
+  }
+  auto accel = makeAccelerator(*kind, scene);
+  Film film = renderFrame(scene, *accel, images, s, counts);
+  EXPECT_EQ(counts.nonFinite, 0u);
+  return film;
+}
+
+/// Lit spheres and a floor under a point light, an area light and a spot.
+Scene litScene() {
+  Scene s;
+  s.background = {0.1, 0.2, 0.4};
+  Finish shiny = matte(0.7);
+  shiny.specular = 0.5;
+  shiny.exponent = 20;
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, shiny, {1, 0.5, 0.2}));
+  addEntity(s, ShapeKind::Cube, Transform::translate({0, -2, 0}) * Transform::scale(6, 1, 6),
+            addTexture(s, matte(0.8)));
+  Light point;
+  point.worldFromLight = Transform::translate({-3, 4, -3});
+  s.lights.push_back(point);
+  Light area;
+  area.worldFromLight = Transform::translate({3, 4, -2});
+  area.rows = area.cols = 3;
+  area.area = true;
+  area.color = {0.3, 0.3, 0.5};
+  s.lights.push_back(area);
+  s.camera.fov = 50;
+  s.camera.aspect = 1;
+  s.camera.worldFromCamera = Transform::lookAt({0, 2, -6}, {0, 0, 0}, {0, 1, 0});
+  return s;
+}
+
+TEST(PathIntegrator, MaxDepthOneIsTheWhittedImageWithoutAmbient) {
+  const Scene scene = litScene();
+  const Film whitted = render(scene, settings(24, 2, IntegratorKind::Whitted), BackendKind::Embree);
+  const Film path = render(scene, settings(24, 2, IntegratorKind::Path, 1), BackendKind::Embree);
+  int lit = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 24; ++x) {
+      ASSERT_EQ(path.get(x, y), whitted.get(x, y)) << x << ", " << y;
+      lit += path.get(x, y).r > 0.3;
+    }
+  EXPECT_GT(lit, 50);
+  // Deeper paths add the light the surfaces pass on, never take any away.
+  const Film deeper = render(scene, settings(24, 2, IntegratorKind::Path, 4), BackendKind::Embree);
+  double shallowSum = 0, deepSum = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 24; ++x) {
+      shallowSum += path.get(x, y).r;
+      deepSum += deeper.get(x, y).r;
+    }
+  EXPECT_GT(deepSum, shallowSum * 1.05);
+}
+
+/// A white environment around `finish` on a torus (concave: paths bounce
+/// on it more than once) and a sphere: without lights or absorption, an
+/// object that keeps its energy is invisible.
+void expectWhiteFurnace(const Finish &finish, int maxDepth, double tolerance) {
+  Scene s;
+  s.background = {1, 1, 1};
+  const uint32_t t = addTexture(s, finish);
+  addEntity(s, ShapeKind::Torus, Transform::rotate({1, 0, 0}, -60), t);
+  addEntity(s, ShapeKind::Sphere, Transform::translate({0, 0, 0}) * Transform::scale(0.3, 0.3, 0.3),
+            t);
+  s.camera.fov = 60;
+  s.camera.aspect = 1;
+  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
+  const Film film = render(s, settings(16, 4, IntegratorKind::Path, maxDepth), BackendKind::Embree);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const Color c = film.get(x, y);
+      EXPECT_NEAR(c.r, 1, tolerance) << x << ", " << y;
+      EXPECT_NEAR(c.g, 1, tolerance) << x << ", " << y;
+    }
+}
+
+TEST(PathIntegrator, AWhiteFurnaceIsInvisible) {
+  // Albedo 1: every path ends in the environment with throughput 1.
+  expectWhiteFurnace(matte(1), 64, 1e-9);
+  // Fresnel glass: reflection F and refraction 1 - F sum to 1.
+  Finish glass = matte(0);
+  glass.reflection = 1;
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.absorption = 0;
+  glass.fresnel = true;
+  expectWhiteFurnace(glass, 64, 1e-9);
+  // Albedo 0.5 in a white furnace is darker: the control.
+  Scene s;
+  s.background = {1, 1, 1};
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, matte(0.5)));
+  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
+  s.camera.aspect = 1;
+  const Film film = render(s, settings(8, 1, IntegratorKind::Path), BackendKind::Embree);
+  EXPECT_NEAR(film.get(4, 4).r, 0.5, 1e-12); // a convex object: one bounce, then the sky
+}
+
+/// A closed box of two triangles per face, its normals facing in.
+MeshDataPtr inwardBox() {
+  auto mesh = std::make_shared<MeshData>();
+  for (int i = 0; i < 8; ++i)
+    mesh->positions.push_back({i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f});
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+  for (const auto &f : faces)
+    for (const auto &tri : {std::array<int, 3>{f[0], f[1], f[2]}, {f[0], f[2], f[3]}}) {
+      MeshTriangle t{{uint32_t(tri[0]), uint32_t(tri[1]), uint32_t(tri[2])}};
+      const Vec3 a = toVec3(mesh->positions[tri[0]]), b = toVec3(mesh->positions[tri[1]]),
+                 c = toVec3(mesh->positions[tri[2]]);
+      // The geometric normal is cross(b - a, c - a): turn it towards the centre.
+      if (dot(cross(b - a, c - a), a + b + c) > 0) std::swap(t.v[1], t.v[2]);
+      mesh->triangles.push_back(t);
+      mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
+    }
+  return mesh;
+}
+
+TEST(PathIntegrator, InsideAnEmittingBoxTheAlbedoSeriesSumsToMaxDepth) {
+  // Emission E = 1 and albedo 0.5 everywhere: a path sees E at each vertex,
+  // weighted 0.5^k after k bounces, so the radiance is the series
+  // 1 + 0.5 + ... to max_depth terms (exact up to Russian roulette, which
+  // starts at the third vertex and keeps the expected value).
+  Scene s;
+  Finish f = matte(0.5);
+  f.emission = {1, 1, 1};
+  Entity e;
+  e.shape = makeShape(ShapeKind::Mesh);
+  e.mesh = inwardBox();
+  e.texture = addTexture(s, f);
+  s.entities.push_back(e);
+  s.camera.aspect = 1;
+  for (int depth : {1, 2, 3, 8}) {
+    SCOPED_TRACE(depth);
+    constexpr int kSize = 16;
+    const Film film =
+        render(s, settings(kSize, 8, IntegratorKind::Path, depth), BackendKind::KdTree);
+    double sum = 0, squares = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        sum += film.get(x, y).g;
+        squares += film.get(x, y).g * film.get(x, y).g;
+      }
+    const double n = kSize * kSize, mean = sum / n;
+    const double expected = (1 - std::pow(0.5, depth)) / 0.5;
+    if (depth <= 3) { // no roulette yet: every path gives the series exactly
+      EXPECT_NEAR(mean, expected, 1e-6);
+      continue;
+    }
+    // Within 4 standard errors of the pixels' mean (and the error small).
+    const double standardError = std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1));
+    EXPECT_LT(standardError, 0.02);
+    EXPECT_NEAR(mean, expected, 4 * standardError);
+  }
+}
+
+TEST(PathIntegrator, EmissionSeenDirectlyIsItsRadiance) {
+  Scene s;
+  s.background = {0.3, 0.3, 0.3};
+  Finish lamp = matte(0);
+  lamp.emission = {3, 2, 1};
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, lamp));
+  s.camera.worldFromCamera = Transform::translate({0, 0, -4});
+  s.camera.aspect = 1;
+  const Film film = render(s, settings(9, 1, IntegratorKind::Path), BackendKind::Embree);
+  EXPECT_EQ(film.get(4, 4), Color(3, 2, 1));
+  EXPECT_NEAR(film.get(0, 0).g, 0.3, 1e-7); // the environment, seen directly (a float film)
+}
+
+TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {
+  Scene s = litScene();
+  Finish glass = matte(0.1);
+  glass.reflection = 1;
+  glass.refraction = 1;
+  glass.refractionIndex = 1.5;
+  glass.fresnel = true;
+  addEntity(s, ShapeKind::Sphere,
+            Transform::translate({1.5, 0, -1}) * Transform::scale(0.5, 0.5, 0.5),
+            addTexture(s, glass));
+  Finish lamp = matte(0.5);
+  lamp.emission = {2, 2, 1};
+  addEntity(s, ShapeKind::Cylinder,
+            Transform::translate({-1.5, 0, -1}) * Transform::scale(0.3, 0.8, 0.3),
+            addTexture(s, lamp));
+  const FrameSettings fs = settings(20, 2, IntegratorKind::Path);
+  const Film embree = render(s, fs, BackendKind::Embree);
+  const Film kdtree = render(s, fs, BackendKind::KdTree);
+  const Film brute = render(s, fs);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 20; ++x) {
+      ASSERT_EQ(kdtree.get(x, y), embree.get(x, y)) << x << ", " << y;
+      ASSERT_EQ(brute.get(x, y), embree.get(x, y)) << x << ", " << y;
+    }
+}
+
+} // namespace
+} // namespace lray

@@ -1,15 +1,18 @@
 // Pipeline: shading. The path tracer of lua/README.md, "Light transport"
 // (SceneInfo.integrator = "path"): at each vertex the surface's emission,
 // the light of the scene's Light and SpotLight sampled as the shading
-// equation samples it (next-event estimation), then one scattering lobe
-// chosen by weight (Lambertian diffuse, mirror reflection, refraction with
-// Beer absorption inside), until the path escapes to the background (a
-// constant environment), reaches max_depth scattering events or is ended
+// equation samples it, emitting surfaces sampled directly (emitters.h) and
+// weighted against the paths that find them by bouncing (multiple
+// importance sampling, power heuristic), then one scattering lobe chosen
+// by weight (Lambertian diffuse, mirror reflection, refraction with Beer
+// absorption inside), until the path escapes to the background (a
+// constant environment), has made max_depth scattering events or is ended
 // by Russian roulette. Like Integrator, a template over the concrete
 // accelerator; defined in path_integrator_impl.h, instantiated once per
 // backend in render/backends.cpp.
 #pragma once
 
+#include "shading/emitters.h"
 #include "shading/integrator.h"
 #include "shading/integrator_options.h"
 
@@ -53,6 +56,7 @@ private:
   /// equation has them (so that max_depth = 1 is the Whitted image without
   /// ambient, reflection and refraction).
   Integrator<Accel> local_;
+  Emitters emitters_; ///< emitting surfaces, sampled from diffuse points
   Color background_;
   int maxDepth_;
 };

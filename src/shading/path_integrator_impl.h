@@ -5,6 +5,7 @@
 
 #include "math/onb.h"
 #include "math/spawn.h"
+#include "shading/emitters.h"
 #include "shading/fresnel.h"
 #include "shading/integrator_impl.h"
 #include "shading/path_integrator.h"
@@ -18,8 +19,8 @@ namespace lray {
 template <class Accel>
 PathIntegrator<Accel>::PathIntegrator(const Scene &scene, const Accel &accel,
                                       const ImageCache &images, const IntegratorOptions &options)
-    : accel_(accel), local_(scene, accel, images, options), background_(scene.background),
-      maxDepth_(std::max(1, options.maxDepth)) {}
+    : accel_(accel), local_(scene, accel, images, options), emitters_(scene),
+      background_(scene.background), maxDepth_(std::max(1, options.maxDepth)) {}
 
 template <class Accel>
 void PathIntegrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
@@ -36,12 +37,28 @@ Color PathIntegrator<Accel>::trace(const Ray &ray, Sampler &sampler, RayCounts &
   return path(ray, hit, found, sampler, counts);
 }
 
+namespace path_detail {
+
+/// The power heuristic (exponent 2) weight of a strategy of density `a`
+/// beside one of density `b` (Veach 1997).
+inline double powerHeuristic(double a, double b) {
+  const double a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0;
+}
+
+} // namespace path_detail
+
 template <class Accel>
 Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler,
                                   RayCounts &counts) const {
   using Surface = typename Integrator<Accel>::Surface;
   Color radiance, beta(1, 1, 1); // beta: the path's throughput so far
   double absorption = 0;         // of the medium the current segment crosses (0: none)
+  // How the current segment was sampled: its density (solid angle) when
+  // from the diffuse lobe, which emitter sampling could also have drawn;
+  // 0 for the camera ray and the mirror and refracted rays.
+  double scatterPdf = 0;
+  Vec3 from;
   for (int vertex = 1;; ++vertex) {
     if (!found) {
       radiance += beta * background_; // a constant environment
@@ -54,9 +71,20 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     local_.surfaceAt(ray, hit, s);
     const Material &m = *s.m;
     const Finish &f = m.finish;
-    if (m.emits && s.entering) radiance += beta * f.emission;
+    if (m.emits && s.entering) {
+      double weight = 1;
+      if (scatterPdf > 0) { // emitter sampling could have found this point too
+        const double d2 = dot(hit.p - from, hit.p - from);
+        const double cosLight = std::fabs(dot(hit.ng, s.dir));
+        const double lightPdf = cosLight > 0 ? emitters_.pdfArea(hit) * d2 / cosLight : 0;
+        weight = path_detail::powerHeuristic(scatterPdf, lightPdf);
+      }
+      radiance += beta * f.emission * weight;
+    }
+    // A path of max_depth scattering events still looks where its last one
+    // sends it (above), and goes no further.
+    if (vertex > maxDepth_) break;
     if (m.lit) radiance += beta * local_.directLight(hit, s, sampler, counts);
-    if (vertex >= maxDepth_) break;
 
     // The lobes and their weights: Lambertian diffuse of albedo diffuse * P,
     // mirror reflection and refraction (times F and 1 - F with fresnel).
@@ -77,19 +105,45 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     const double total = wd + kr + kt;
     if (!(total > 0)) break;
 
+    // Emitters sampled directly from the diffuse lobe (the others are
+    // perfectly specular: no other direction than their own reaches them).
+    if (wd > 0 && !emitters_.empty()) {
+      const Emitters::Sample e = emitters_.sample(sampler);
+      const Vec3 toLight = e.p - hit.p;
+      const double d2 = dot(toLight, toLight), d = std::sqrt(d2);
+      const Vec3 l = toLight / d;
+      const double cosSurface = dot(s.n, l), cosLight = -dot(e.n, l);
+      if (cosSurface > 0 && cosLight > 0 && e.pdfArea > 0 && d > 0) {
+        Ray shadow = spawnRayTo(hit, e.p);
+        shadow.tMax = 1 - 1e-7; // stops short of the emitter's own surface
+        ++counts.shadow;
+        if (!accel_.occluded(shadow)) {
+          const double lightPdf = e.pdfArea * d2 / cosLight;
+          const double scatter = wd / total * cosSurface / std::numbers::pi;
+          const double weight = path_detail::powerHeuristic(lightPdf, scatter);
+          radiance +=
+              beta * albedo * e.radiance * (cosSurface / std::numbers::pi * weight / lightPdf);
+        }
+      }
+    }
+
     // One lobe, chosen with probability weight / total: the throughput
     // takes the lobe's weight over that probability.
     const double pick = sampler.next() * total;
     const Vec3 mirror = s.dir - s.n * (2 * dn);
     Vec3 next;
+    scatterPdf = 0;
     if (pick < wd) {
       // Cosine-weighted about N: the Lambertian BRDF albedo / pi times cos
       // over the pdf cos / pi leaves the albedo.
       const double u1 = sampler.next(), u2 = sampler.next();
       const double r = std::sqrt(u1), phi = 2 * std::numbers::pi * u2;
-      next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), std::sqrt(1 - u1));
+      const double cosTheta = std::sqrt(1 - u1);
+      next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), cosTheta);
       beta = beta * albedo * (total / wd);
       absorption = 0;
+      scatterPdf = wd / total * cosTheta / std::numbers::pi;
+      from = hit.p;
       ++counts.diffuse;
     } else if (pick < wd + kr) {
       next = mirror;

@@ -65,9 +65,9 @@ Film render(const Scene &scene, const FrameSettings &s, std::optional<BackendKin
 }
 
 /// Lit spheres and a floor under a point light, an area light and a spot.
-Scene litScene() {
+Scene litScene(const Color &background = {}) {
   Scene s;
-  s.background = {0.1, 0.2, 0.4};
+  s.background = background;
   Finish shiny = matte(0.7);
   shiny.specular = 0.5;
   shiny.exponent = 20;
@@ -90,6 +90,8 @@ Scene litScene() {
 }
 
 TEST(PathIntegrator, MaxDepthOneIsTheWhittedImageWithoutAmbient) {
+  // No emitter and a black environment: with one scattering event a path
+  // gathers exactly the shading equation's light from the lights.
   const Scene scene = litScene();
   const Film whitted = render(scene, settings(24, 2, IntegratorKind::Whitted), BackendKind::Embree);
   const Film path = render(scene, settings(24, 2, IntegratorKind::Path, 1), BackendKind::Embree);
@@ -175,10 +177,11 @@ MeshDataPtr inwardBox() {
 }
 
 TEST(PathIntegrator, InsideAnEmittingBoxTheAlbedoSeriesSumsToMaxDepth) {
-  // Emission E = 1 and albedo 0.5 everywhere: a path sees E at each vertex,
-  // weighted 0.5^k after k bounces, so the radiance is the series
-  // 1 + 0.5 + ... to max_depth terms (exact up to Russian roulette, which
-  // starts at the third vertex and keeps the expected value).
+  // Emission E = 1 and albedo 0.5 everywhere: light that scattered k times
+  // arrives weighted 0.5^k, so the radiance is the series 1 + 0.5 + ... to
+  // 0.5^max_depth. The box is its own emitter: sampled directly and by the
+  // bounces, weighted by MIS, with Russian roulette from the third vertex;
+  // the expected value is the series either way.
   Scene s;
   Finish f = matte(0.5);
   f.emission = {1, 1, 1};
@@ -193,23 +196,61 @@ TEST(PathIntegrator, InsideAnEmittingBoxTheAlbedoSeriesSumsToMaxDepth) {
     constexpr int kSize = 16;
     const Film film =
         render(s, settings(kSize, 8, IntegratorKind::Path, depth), BackendKind::KdTree);
-    double sum = 0, squares = 0;
+    double sum = 0, squares = 0; // over pixels of 64 samples each
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x) {
         sum += film.get(x, y).g;
         squares += film.get(x, y).g * film.get(x, y).g;
       }
     const double n = kSize * kSize, mean = sum / n;
-    const double expected = (1 - std::pow(0.5, depth)) / 0.5;
-    if (depth <= 3) { // no roulette yet: every path gives the series exactly
-      EXPECT_NEAR(mean, expected, 1e-6);
-      continue;
-    }
+    const double expected = (1 - std::pow(0.5, depth + 1)) / 0.5;
     // Within 4 standard errors of the pixels' mean (and the error small).
     const double standardError = std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1));
-    EXPECT_LT(standardError, 0.02);
+    EXPECT_LT(standardError, 0.01);
     EXPECT_NEAR(mean, expected, 4 * standardError);
   }
+}
+
+TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
+  // A small matte square facing an emitting sphere of radius R, radiance L,
+  // centre at distance d: irradiance pi L (R / d)^2, so the square shows
+  // albedo * L * (R / d)^2 (max_depth 1: the direct light alone). The
+  // sphere is placed by a rotation and a uniform scale: its points are
+  // drawn in object space, and their density must follow it to world area.
+  Scene s;
+  const double R = 0.5, d = 2, L = 4, albedo = 0.8;
+  Finish lamp = matte(0);
+  lamp.emission = {L, L, L};
+  addEntity(s, ShapeKind::Sphere,
+            Transform::translate({0, d, 0}) * Transform::rotate({1, 1, 0}, 30) *
+                Transform::scale(R, R, R),
+            addTexture(s, lamp));
+  Entity square;
+  square.shape = makeShape(ShapeKind::Mesh);
+  auto mesh = std::make_shared<MeshData>();
+  mesh->positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
+  mesh->triangles = {MeshTriangle{{0, 2, 1}}, MeshTriangle{{0, 3, 2}}}; // normal +y
+  for (const MeshTriangle &t : mesh->triangles)
+    mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
+  square.mesh = mesh;
+  square.worldFromObject = Transform::scale(0.01, 1, 0.01);
+  square.texture = addTexture(s, matte(albedo));
+  s.entities.push_back(square);
+  s.camera.fov = 0.5; // the square fills the view
+  s.camera.aspect = 1;
+  s.camera.worldFromCamera = Transform::lookAt({0.5, 1, 0}, {0, 0, 0}, {0, 1, 0});
+  constexpr int kSize = 8;
+  const Film film = render(s, settings(kSize, 16, IntegratorKind::Path, 1), BackendKind::Embree);
+  double sum = 0, squares = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      sum += film.get(x, y).r;
+      squares += film.get(x, y).r * film.get(x, y).r;
+    }
+  const double n = kSize * kSize, mean = sum / n;
+  const double standardError = std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1));
+  EXPECT_NEAR(mean, albedo * L * (R / d) * (R / d), 4 * standardError + 1e-3);
+  EXPECT_LT(standardError, 0.005);
 }
 
 TEST(PathIntegrator, EmissionSeenDirectlyIsItsRadiance) {

@@ -1,0 +1,153 @@
+// Pipeline: shading. See emitters.h.
+#include "shading/emitters.h"
+
+#include "geometry/shape.h"
+#include "math/affine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace lray {
+
+namespace {
+
+double mean(const Color &c) { return (c.r + c.g + c.b) / 3; }
+
+/// |det| of the linear part: how the transform scales volumes; its 2/3
+/// power estimates how it scales areas (for choosing among emitters only).
+double areaScale(const Transform &t) { return std::pow(std::fabs(t.matrix().det3()), 2.0 / 3); }
+
+} // namespace
+
+Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entities.size(), -1) {
+  std::vector<double> power;
+  for (uint32_t i = 0; i < scene.entities.size(); ++i) {
+    const Entity &e = scene.entities[i];
+    if (e.texture >= scene.textures.size()) continue;
+    const Color &emission = scene.textures[e.texture].finish.emission;
+    if (emission.isBlack()) continue;
+    const size_t first = entries_.size();
+    switch (e.kind()) {
+    case ShapeKind::Sphere:
+      entries_.push_back({i, 0, Kind::Sphere, 0, 4 * std::numbers::pi});
+      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
+      break;
+    case ShapeKind::Cube:
+      entries_.push_back({i, 0, Kind::Cube, 0, 6});
+      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
+      break;
+    case ShapeKind::Mesh:
+      for (uint32_t t = 0; t < e.mesh->triangles.size(); ++t) {
+        const uint32_t *v = e.mesh->triangles[t].v;
+        const Vec3 a = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[0]]));
+        const Vec3 b = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[1]]));
+        const Vec3 c = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[2]]));
+        const double area = 0.5 * length(cross(b - a, c - a));
+        if (!(area > 0)) continue; // a degenerate triangle: nothing to sample
+        entries_.push_back({i, t, Kind::Triangle, 0, area});
+        power.push_back(mean(emission) * area);
+      }
+      break;
+    default:
+      break; // not sampled (emitters.h)
+    }
+    if (entries_.size() > first) firstEntry_[i] = static_cast<int64_t>(first);
+  }
+  double total = 0;
+  for (double p : power)
+    total += p;
+  if (!(total > 0) || !std::isfinite(total)) {
+    entries_.clear();
+    std::fill(firstEntry_.begin(), firstEntry_.end(), -1);
+    return;
+  }
+  cumulative_.reserve(entries_.size());
+  double sum = 0;
+  for (size_t k = 0; k < entries_.size(); ++k) {
+    entries_[k].probability = power[k] / total;
+    sum += entries_[k].probability;
+    cumulative_.push_back(sum);
+  }
+  cumulative_.back() = 1; // no gap at the top from rounding
+}
+
+double Emitters::worldAreaFactor(const Entity &e, const Vec3 &n) const {
+  // dA_world = |det M| |M^-T n_obj| dA_object with n_obj the unit object
+  // normal; with n = M^-T n_obj / |M^-T n_obj| that is |det M| / |M^T n|.
+  const auto &m = e.worldFromObject.matrix().m;
+  const Vec3 mtn{m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
+                 m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+                 m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
+  return length(mtn) / std::fabs(e.worldFromObject.matrix().det3());
+}
+
+Emitters::Sample Emitters::sample(Sampler &sampler) const {
+  const double pick = sampler.next(), u = sampler.next(), v = sampler.next();
+  const size_t k = std::min<size_t>(std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) -
+                                        cumulative_.begin(),
+                                    entries_.size() - 1);
+  const Entry &entry = entries_[k];
+  const Entity &e = scene_.entities[entry.entity];
+  Sample s;
+  s.radiance = scene_.textures[e.texture].finish.emission;
+  if (entry.kind == Kind::Triangle) {
+    // Uniform in the triangle: the square-root map of two numbers.
+    const double r = std::sqrt(u);
+    const double b1 = r * (1 - v), b2 = r * v;
+    Hit hit;
+    const Ray probe{Vec3(), Vec3(0, 0, 1), 0, 1};
+    fillTriangleHit(e, entry.entity, entry.triangle, 0, b1, b2, probe, Vec3(), hit);
+    s.p = hit.p;
+    s.n = hit.ng;
+    s.pdfArea = entry.probability / entry.area;
+    return s;
+  }
+  Vec3 pObject, nObject;
+  if (entry.kind == Kind::Sphere) {
+    const double z = 1 - 2 * u, r = std::sqrt(std::max(0.0, 1 - z * z));
+    const double phi = 2 * std::numbers::pi * v;
+    pObject = nObject = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  } else { // Cube: a face (of six, equally likely), then a point on it
+    const int face = std::min(5, static_cast<int>(u * 6));
+    const double a = u * 6 - face - 0.5, b = v - 0.5;
+    const double side = face & 1 ? 0.5 : -0.5;
+    switch (face / 2) {
+    case 0:
+      pObject = {side, a, b};
+      break;
+    case 1:
+      pObject = {a, side, b};
+      break;
+    default:
+      pObject = {a, b, side};
+      break;
+    }
+    nObject = Vec3(face / 2 == 0 ? side * 2 : 0, face / 2 == 1 ? side * 2 : 0,
+                   face / 2 == 2 ? side * 2 : 0);
+  }
+  s.p = affinePoint(e.worldFromObject.matrix(), pObject);
+  s.n = unitVector(affineNormal(e.worldFromObject.inverseMatrix(), nObject));
+  s.pdfArea = entry.probability * worldAreaFactor(e, s.n) / entry.area;
+  return s;
+}
+
+double Emitters::pdfArea(const Hit &hit) const {
+  if (hit.entity >= firstEntry_.size() || firstEntry_[hit.entity] < 0) return 0;
+  const Entity &e = scene_.entities[hit.entity];
+  const Entry *entry = &entries_[static_cast<size_t>(firstEntry_[hit.entity])];
+  if (entry->kind == Kind::Triangle) {
+    // The entity's triangles are consecutive entries, in order; degenerate
+    // ones were left out, so look for this one from its own index down.
+    const size_t first = static_cast<size_t>(firstEntry_[hit.entity]);
+    size_t k = std::min(first + hit.primitive, entries_.size() - 1);
+    while (k > first && (entries_[k].entity != hit.entity || entries_[k].triangle > hit.primitive))
+      --k;
+    entry = &entries_[k];
+    if (entry->entity != hit.entity || entry->triangle != hit.primitive) return 0;
+    return entry->probability / entry->area;
+  }
+  return entry->probability * worldAreaFactor(e, hit.ng) / entry->area;
+}
+
+} // namespace lray

@@ -213,8 +213,14 @@ int meshFromObj(lua_State *L) {
   }
   BindingContext &ctx = BindingContext::of(L);
   MeshSource source;
+  // What the script has left of --script-memory bounds the parse as it goes.
+  uint64_t left = 0;
+  if (ctx.allocator && ctx.allocator->limit()) {
+    const uint64_t used = ctx.allocator->bytesInUse() + ctx.allocator->external()->bytes.load();
+    left = used < ctx.allocator->limit() ? ctx.allocator->limit() - used : 1;
+  }
   try {
-    source = loadObj(ctx.resolveReadPath(file, "mesh_from_obj"), file, ctx.maxFileBytes);
+    source = loadObj(ctx.resolveReadPath(file, "mesh_from_obj"), file, ctx.maxFileBytes, left);
   } catch (const SceneError &e) {
     throw ScriptError(std::string("mesh_from_obj: ") + e.what());
   }

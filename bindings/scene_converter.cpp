@@ -21,7 +21,9 @@ constexpr size_t kMaxFlattenedSolids = size_t{1} << 21;
 
 class Converter {
 public:
-  explicit Converter(const BindingContext &ctx) : ctx_(ctx) {}
+  Converter(const BindingContext &ctx, uint64_t memoryLimit) : ctx_(ctx) {
+    out_.memory = MemoryBudget(memoryLimit);
+  }
 
   Scene run(const SceneObj &in) {
     out_.background = in.background;
@@ -29,8 +31,13 @@ public:
       out_.camera = *in.camera;
       out_.camera.loc = ctx_.resolve(in.camera->loc);
     }
+    // Charged before the arrays are reserved, each at its own line: one
+    // entity added ten million times is refused where it was made.
+    for (const LightObj *light : in.lights)
+      charge(sizeof(SceneLight), "Light", ctx_.resolve(light->loc));
     out_.lights.reserve(in.lights.size());
     for (const LightObj *light : in.lights) out_.lights.push_back(this->light(*light));
+    for (const EntityRef &ref : in.entities) chargeEntity(ref);
     out_.entities.reserve(in.entities.size());
     for (const EntityRef &ref : in.entities) {
       switch (ref.kind) {
@@ -49,6 +56,57 @@ public:
   }
 
 private:
+  // ---- the render memory budget (util/memory_budget.h) -------------------------
+
+  void charge(uint64_t bytes, const char *what, const SourceLocation &loc) {
+    out_.memory.charge(bytes, what, loc);
+  }
+
+  /// An entity's own bytes and its location's file name (a heap string
+  /// once past the short-string buffer).
+  static uint64_t entityBytes(const SourceLocation &loc) {
+    return sizeof(Entity) + (loc.file.size() > 15 ? loc.file.size() + 1 : 0);
+  }
+
+  void chargeEntity(const EntityRef &ref) {
+    const ScriptLoc *where = nullptr;
+    const char *what = "Mesh";
+    switch (ref.kind) {
+    case EntityRefKind::Mesh: where = &static_cast<const MeshObj *>(ref.object)->loc; break;
+    case EntityRefKind::Shape: {
+      const auto &e = *static_cast<const EntityObj *>(ref.object);
+      where = &e.loc;
+      what = shapeName(e.shape);
+      break;
+    }
+    case EntityRefKind::Csg: {
+      const auto &c = *static_cast<const CsgObj *>(ref.object);
+      where = &c.loc;
+      what = csgOpName(c.op);
+      break;
+    }
+    }
+    const SourceLocation loc = ctx_.resolve(*where);
+    charge(entityBytes(loc), what, loc);
+  }
+
+  /// A mesh's triangle data, once per frame however many Meshes share it:
+  /// before it is built from the source (an estimate from the face sizes),
+  /// or as built when an earlier frame built it.
+  void chargeMeshData(const MeshGeometry &g, const SourceLocation &loc) {
+    if (!chargedMeshes_.insert(&g).second) return;
+    if (g.built) return charge(g.built->memoryBytes(), "Mesh", loc);
+    const MeshSource &s = g.source;
+    uint64_t triangles = 0;
+    for (uint32_t corners : s.faceSizes) triangles += corners >= 2 ? corners - 2 : 0;
+    // Positions, given normals plus one computed per vertex, uvs, and each
+    // triangle's corners twice (MeshTriangle and the flat index list).
+    charge(s.positions.size() * 2 * sizeof(Vec3f) + s.normals.size() * sizeof(Vec3f) +
+               s.uvs.size() * sizeof(Vec2f) +
+               triangles * (sizeof(MeshTriangle) + 3 * sizeof(uint32_t)),
+           "Mesh", loc);
+  }
+
   Transform transform(const Affine &a, const SourceLocation &loc, const char *what) {
     Transform t = a.toTransform();
     if (t.singular()) throw SceneError(loc, std::string(what) + ": the transform is singular");
@@ -135,6 +193,7 @@ private:
       return;
     }
     for (const EntityRef &child : c.children) {
+      chargeEntity(child); // an entity of its own
       // A Union used twice in one is copied twice: 40 levels of
       // u = Union { u, u } would ask for 2^40 entities.
       if (++flattened_ > kMaxFlattenedSolids)
@@ -196,6 +255,7 @@ private:
   /// Node `c` placed at `world` (its own transform applied) under `parent`.
   void csgNode(CsgTree &tree, const CsgObj &c, uint32_t parent, const Transform &world,
                const Inherited &inherited, int depth) {
+    charge(sizeof(CsgTree::Node), csgOpName(c.op), ctx_.resolve(c.loc));
     const uint32_t node = tree.addNode(c.op, parent);
     for (const EntityRef &child : c.children) {
       if (tree.leaves.size() > kMaxCsgSolids) return; // csgEntity reports it
@@ -211,6 +271,8 @@ private:
       bool inherits = false;
       Entity leaf =
           csgLeaf(*static_cast<const EntityObj *>(child.object), world, inherited, inherits);
+      // A subtree listed many times is copied each time: charged each time.
+      charge(sizeof(CsgTree::Leaf) + entityBytes(leaf.loc), shapeName(leaf.shape), leaf.loc);
       if (inherits) addLeaf(tree, std::move(leaf), node, inherited);
       else tree.addLeaf(std::move(leaf), node);
     }
@@ -230,6 +292,7 @@ private:
     out.smooth = m.smooth;
     out.texture = texture(m.texture);
     const MeshGeometry &g = *m.geometry;
+    chargeMeshData(g, out.loc);
     if (!g.built) {
       try {
         g.built = buildMeshData(g.source);
@@ -329,12 +392,13 @@ private:
   std::unordered_map<const PigmentObj *, uint32_t> pigments_;
   std::unordered_map<std::string, uint32_t> images_;
   std::unordered_set<const PigmentObj *> inProgress_;
+  std::unordered_set<const MeshGeometry *> chargedMeshes_;
 };
 
 } // namespace
 
-Scene convertScene(const SceneObj &scene, const BindingContext &ctx) {
-  return Converter(ctx).run(scene);
+Scene convertScene(const SceneObj &scene, const BindingContext &ctx, uint64_t memoryLimit) {
+  return Converter(ctx, memoryLimit).run(scene);
 }
 
 } // namespace lray::lua

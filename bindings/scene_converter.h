@@ -21,6 +21,9 @@ namespace lray::lua {
 /// Throws SceneError (with the offending object's location) for a mesh
 /// index out of range, an empty mesh, a singular transform, a pigment
 /// that contains itself or a light whose values conflict (Light::invalid).
-Scene convertScene(const SceneObj &scene, const BindingContext &ctx);
+/// The model is charged against `memoryLimit` bytes (--render-memory; 0:
+/// none) as it is made, each part at its line, and the charge is kept in
+/// Scene::memory for the textures and the acceleration structure.
+Scene convertScene(const SceneObj &scene, const BindingContext &ctx, uint64_t memoryLimit = 0);
 
 } // namespace lray::lua

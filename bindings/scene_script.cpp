@@ -147,7 +147,7 @@ Scene SceneScript::buildFrame(double clock) {
   }
   Scene scene;
   try {
-    scene = lua::convertScene(*sceneObj, state.context());
+    scene = lua::convertScene(*sceneObj, state.context(), impl_->options.renderMemoryBytes);
   } catch (...) {
     lua_pop(L, 1);
     throw;

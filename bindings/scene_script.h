@@ -5,6 +5,7 @@
 
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
+#include "util/memory_budget.h"
 
 #include <cstdint>
 #include <memory>
@@ -24,6 +25,9 @@ struct ScriptOptions {
   uint64_t maxPixels = kDefaultMaxPixels; ///< --max-pixels: cap on width*height*samples^2
   uint64_t maxLightSamples = kDefaultMaxLightSamples; ///< --max-light-samples, per light
   uint64_t memoryLimitBytes = kDefaultScriptMemory;   ///< --script-memory; 0: no limit
+  /// --render-memory: what one frame's model, textures and acceleration
+  /// structure may take (util/memory_budget.h); 0: no limit.
+  uint64_t renderMemoryBytes = defaultRenderMemory();
   /// --allow-read: folders a sandboxed script may read besides its own.
   std::vector<std::string> allowRead;
   /// --max-file-size: the largest scene or OBJ file read (text formats

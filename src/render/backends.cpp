@@ -10,6 +10,7 @@
 
 #include <cassert>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace lray {
 
@@ -51,6 +52,36 @@ const BackendEntry &entry(BackendKind kind) {
   return kBackends[0];
 }
 
+/// What building either backend over a scene may take at its peak, per
+/// triangle of each distinct mesh (instances share one tree) and per entity
+/// (an analytic shape, a CSG tree or a mesh instance): about three times
+/// what the finished structures hold (bench/README.md, memory), for the
+/// builders' working arrays.
+constexpr uint64_t kBuildBytesPerTriangle = 200, kBuildBytesPerEntity = 400;
+
+/// Charges the build against the frame's render memory budget before it
+/// starts, blaming the entity that asks for most of it.
+void chargeAccelerator(const Scene &scene) {
+  if (scene.memory.limit() == 0 || scene.entities.empty()) return;
+  std::unordered_set<const MeshData *> meshes;
+  uint64_t triangles = 0, bytes = 0, largest = 0;
+  const Entity *blamed = &scene.entities.front();
+  for (const Entity &e : scene.entities) {
+    uint64_t own = kBuildBytesPerEntity;
+    if (e.mesh && meshes.insert(e.mesh.get()).second) {
+      triangles += e.mesh->triangles.size();
+      own += e.mesh->triangles.size() * kBuildBytesPerTriangle;
+    }
+    bytes += own;
+    if (own > largest) largest = own, blamed = &e;
+  }
+  MemoryBudget budget = scene.memory;
+  budget.charge(bytes,
+                "the acceleration structure of " + std::to_string(scene.entities.size()) +
+                    " entities and " + std::to_string(triangles) + " triangles",
+                blamed->loc);
+}
+
 } // namespace
 
 std::span<const BackendEntry> backends() { return kBackends; }
@@ -58,12 +89,16 @@ std::span<const BackendEntry> backends() { return kBackends; }
 std::string backendName(BackendKind kind) { return entry(kind).name; }
 
 std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene) {
+  chargeAccelerator(scene);
   return entry(kind).make(scene);
 }
 
 std::unique_ptr<Accelerator> makeAccelerator(std::string_view name, const Scene &scene) {
   for (const BackendEntry &b : kBackends)
-    if (name == b.name) return b.make(scene);
+    if (name == b.name) {
+      chargeAccelerator(scene);
+      return b.make(scene);
+    }
   throw std::invalid_argument("unknown backend '" + std::string(name) + "'");
 }
 

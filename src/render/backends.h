@@ -47,7 +47,9 @@ std::span<const BackendEntry> backends();
 /// The name of `kind` ("embree", "kdtree").
 std::string backendName(BackendKind kind);
 
-/// Builds the chosen backend over `scene` (which must outlive the result).
+/// Builds the chosen backend over `scene` (which must outlive the result);
+/// first charges the build to Scene::memory, throwing SceneError at the
+/// entity that asks for most of it when it would pass --render-memory.
 std::unique_ptr<Accelerator> makeAccelerator(BackendKind kind, const Scene &scene);
 /// The same by name; std::invalid_argument for a name backends() lacks.
 std::unique_ptr<Accelerator> makeAccelerator(std::string_view name, const Scene &scene);

@@ -34,6 +34,11 @@ public:
                  "Stop a script whose Lua memory grows past SIZE (bytes, or with K, M or G; "
                  "default 2G)")
         ->type_name("SIZE");
+    g.add_option("--render-memory", renderMemory_,
+                 "Refuse a frame whose scene model, textures and acceleration structure "
+                 "would take more than SIZE (bytes, or with K, M or G; default half the "
+                 "machine's memory, at least 1G)")
+        ->type_name("SIZE");
     g.add_option("--max-light-samples", o.maxLightSamples,
                  "Refuse a light with more shadow rays per shading point (rows*cols) than "
                  "this (default 65536)")
@@ -47,13 +52,15 @@ public:
     std::string error;
     if (!scriptMemory_.empty())
       error = option_text::parseSize(scriptMemory_, "--script-memory", o.scriptMemory);
+    if (error.empty() && !renderMemory_.empty())
+      error = option_text::parseSize(renderMemory_, "--render-memory", o.renderMemory);
     if (error.empty() && !maxFileSize_.empty())
       error = option_text::parseSize(maxFileSize_, "--max-file-size", o.maxFileBytes);
     return error;
   }
 
 private:
-  std::string maxFileSize_, scriptMemory_;
+  std::string maxFileSize_, scriptMemory_, renderMemory_;
 };
 
 } // namespace
@@ -65,6 +72,7 @@ ScriptOptions scriptOptionsOf(const Options &opt) {
   s.unsafe = opt.unsafe;
   s.timeoutSeconds = opt.scriptTimeout;
   s.memoryLimitBytes = opt.scriptMemory;
+  s.renderMemoryBytes = opt.renderMemory;
   s.allowRead = opt.allowRead;
   s.maxFileBytes = opt.maxFileBytes;
   s.maxPixels = opt.maxPixelCount();

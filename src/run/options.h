@@ -6,6 +6,7 @@
 #include "render/backends.h"
 #include "render/frame_settings.h"
 #include "render/image_writer.h"
+#include "util/memory_budget.h"
 
 #include <cstdint>
 #include <optional>
@@ -49,6 +50,9 @@ struct Options {
   std::string statsPath;
   double scriptTimeout = 60;
   uint64_t scriptMemory = uint64_t{2} << 30; ///< bytes; --script-memory 512M, 4G, ...
+  /// --render-memory: a frame's scene model, textures and acceleration
+  /// structure (util/memory_budget.h).
+  uint64_t renderMemory = defaultRenderMemory();
   std::vector<std::string> allowRead;        ///< --allow-read DIR (repeatable)
   uint64_t maxFileBytes = uint64_t{1} << 30; ///< --max-file-size: scene and OBJ files
   double maxPixels = 1e9; ///< cap on width * height * samples^2

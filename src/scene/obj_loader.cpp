@@ -3,6 +3,7 @@
 
 #include "scene/scene_checks.h"
 
+#include "util/memory_budget.h"
 #include "util/scene_error.h"
 
 #include <charconv>
@@ -11,7 +12,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string_view>
 
 namespace lray {
@@ -20,7 +20,8 @@ namespace {
 
 class ObjParser {
 public:
-  ObjParser(const std::string &displayName) : name_(displayName) {}
+  ObjParser(const std::string &displayName, uint64_t memoryBytes)
+      : name_(displayName), memoryBytes_(memoryBytes) {}
 
   void parse(std::string_view text) {
     size_t pos = 0;
@@ -29,6 +30,11 @@ public:
       if (end == std::string_view::npos) end = text.size();
       ++line_;
       parseLine(text.substr(pos, end - pos));
+      // Checked as the arrays grow, not once they are complete: a 64 MiB
+      // limit must not see 574 MiB first.
+      if (memoryBytes_ && text.size() + heldBytes() > memoryBytes_)
+        fail("the OBJ file needs more than the " + bytesText(memoryBytes_) +
+             " the script has left of its memory (raise it with --script-memory)");
       pos = end + 1;
     }
   }
@@ -36,6 +42,12 @@ public:
   MeshSource take() { return std::move(mesh_); }
 
 private:
+  uint64_t heldBytes() const {
+    return mesh_.positions.capacity() * sizeof(Vec3f) + mesh_.normals.capacity() * sizeof(Vec3f) +
+           mesh_.uvs.capacity() * sizeof(Vec2f) + mesh_.corners.capacity() * sizeof(MeshCorner) +
+           mesh_.faceSizes.capacity() * sizeof(uint32_t);
+  }
+
   [[noreturn]] void fail(const std::string &message) const {
     throw SceneError(SourceLocation{name_, line_}, message);
   }
@@ -147,6 +159,7 @@ private:
   }
 
   std::string name_;
+  uint64_t memoryBytes_; ///< the text and the arrays together; 0: no limit
   int line_ = 0;
   MeshSource mesh_;
   std::vector<std::string_view> tokens_;
@@ -154,25 +167,35 @@ private:
 
 } // namespace
 
-MeshSource parseObj(const std::string &text, const std::string &displayName) {
-  ObjParser parser(displayName);
+MeshSource parseObj(std::string_view text, const std::string &displayName,
+                    uint64_t memoryBytes) {
+  ObjParser parser(displayName, memoryBytes);
   parser.parse(text);
   return parser.take();
 }
 
-MeshSource loadObj(const std::string &path, const std::string &displayName, uint64_t maxBytes) {
+MeshSource loadObj(const std::string &path, const std::string &displayName, uint64_t maxBytes,
+                   uint64_t memoryBytes) {
   // A directory reads as an empty file and a device (/dev/zero) never ends:
   // only regular files are OBJ files.
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw SceneError(displayName + ": not a regular file (" + path + ")");
   checkFileSize(path, displayName, maxBytes);
+  // The text is held whole while it is parsed: it counts against the memory.
+  const uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw SceneError(displayName + ": cannot open OBJ file");
+  if (memoryBytes && size > memoryBytes)
+    throw SceneError(displayName + ": " + std::to_string(size) + " bytes, more than the " +
+                     bytesText(memoryBytes) +
+                     " the script has left of its memory (raise it with --script-memory)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(displayName + ": cannot open OBJ file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw SceneError(displayName + ": read error");
-  return parseObj(buffer.str(), displayName);
+  std::string text(size, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (in.bad() || static_cast<uint64_t>(in.gcount()) != size)
+    throw SceneError(displayName + ": read error");
+  return parseObj(text, displayName, memoryBytes);
 }
 
 } // namespace lray

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace lray {
 
@@ -15,11 +16,15 @@ namespace lray {
 /// spaces; ignores grouping/material statements (o g s usemtl mtllib) and
 /// non-surface elements (l p vp). Anything else malformed throws SceneError
 /// "displayName:line: message"; nothing is dropped silently. A file larger
-/// than `maxBytes` is refused before it is read (--max-file-size).
+/// than `maxBytes` is refused before it is read (--max-file-size); one
+/// whose text and arrays together would pass `memoryBytes` (what the
+/// script has left of --script-memory; 0: no limit) is refused before it
+/// is read or at the line where they pass it.
 MeshSource loadObj(const std::string &path, const std::string &displayName,
-                   uint64_t maxBytes = uint64_t{1} << 30);
+                   uint64_t maxBytes = uint64_t{1} << 30, uint64_t memoryBytes = 0);
 
 /// Same, from the text of an OBJ file (for tests).
-MeshSource parseObj(const std::string &text, const std::string &displayName);
+MeshSource parseObj(std::string_view text, const std::string &displayName,
+                    uint64_t memoryBytes = 0);
 
 } // namespace lray

@@ -8,6 +8,7 @@
 #include "math/transform.h"
 #include "math/vec3.h"
 #include "scene/mesh_data.h"
+#include "util/memory_budget.h"
 #include "util/scene_error.h"
 #include "shading/pigments/texture_map.h"
 #include "shading/pigments/pigment_list.h"
@@ -117,6 +118,11 @@ struct Scene {
   std::vector<Texture> textures; ///< at least one (the default) when entities exist
   std::vector<Pigment> pigments;
   std::vector<ImageRef> images;
+  /// What this frame has been charged against --render-memory so far (the
+  /// model by the converter; textures and the acceleration structure add
+  /// theirs before they are allocated). A SceneScript's frames carry its
+  /// --render-memory (ScriptOptions::renderMemoryBytes); else no limit.
+  MemoryBudget memory;
 };
 
 } // namespace lray

@@ -16,17 +16,22 @@ namespace lray {
 ImageCache::ImageCache(bool linearWorkflow) : linear_(linearWorkflow) {}
 
 TextureImage ImageCache::readImage(const std::string &path, bool linearWorkflow,
-                                   const SourceLocation &loc) {
-  if (std::optional<TextureImage> image = decodeEightBitTexture(path, linearWorkflow, loc))
+                                   const SourceLocation &loc, MemoryBudget *budget) {
+  if (std::optional<TextureImage> image = decodeEightBitTexture(path, linearWorkflow, loc, budget))
     return std::move(*image);
-  return oiioLibrary().readImage(path, linearWorkflow, loc);
+  return oiioLibrary().readImage(path, linearWorkflow, loc, budget);
 }
 
-void ImageCache::load(const Scene &scene) {
+void ImageCache::load(Scene &scene) {
   for (const ImageRef &ref : scene.images) {
-    if (images_.count(ref.path)) continue;
-    images_.emplace(ref.path,
-                    std::make_unique<TextureImage>(readImage(ref.path, linear_, ref.loc)));
+    auto it = images_.find(ref.path);
+    if (it != images_.end()) {
+      scene.memory.charge(it->second->memoryBytes(), "ImagePigment2D: image '" + ref.path + "'",
+                          ref.loc);
+      continue;
+    }
+    images_.emplace(ref.path, std::make_unique<TextureImage>(
+                                  readImage(ref.path, linear_, ref.loc, &scene.memory)));
   }
 }
 

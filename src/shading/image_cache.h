@@ -24,8 +24,9 @@ public:
 
   /// Loads every Scene::images entry not yet loaded; throws SceneError
   /// naming the path (prefixed with ImageRef::loc) when it is missing or
-  /// unreadable.
-  void load(const Scene &scene);
+  /// unreadable, or would take the frame past its render memory budget
+  /// (Scene::memory, charged with every image the frame uses).
+  void load(Scene &scene);
 
   /// The image loaded for `path`, or nullptr.
   const TextureImage *find(const std::string &path) const;
@@ -34,8 +35,9 @@ public:
   size_t memoryBytes() const;
 
   /// Decodes one file (any format OpenImageIO reads); throws SceneError.
+  /// Charged to `budget` before decoding (null: none).
   static TextureImage readImage(const std::string &path, bool linearWorkflow,
-                                const SourceLocation &loc = {});
+                                const SourceLocation &loc = {}, MemoryBudget *budget = nullptr);
 
 private:
   bool linear_;

@@ -5,6 +5,7 @@
 // (oiio_module.cpp, liblray_oiio.so) holds all of LRay's OpenImageIO code.
 #pragma once
 
+#include "util/memory_budget.h"
 #include "util/scene_error.h"
 #include "shading/pigments/texture_image.h"
 
@@ -28,6 +29,20 @@ inline SceneError textureTooLarge(const SourceLocation &loc, const std::string &
                              std::to_string(kMaxTextureTexels));
 }
 
+/// Charges a texture's decoding against `budget` (null: none) before
+/// anything is allocated for it: the decoder's buffer of all `channels` and
+/// the RGB floats kept. Returns the buffer's bytes, to release once decoded
+/// (the kept floats stay charged for the frame).
+inline uint64_t chargeTexture(MemoryBudget *budget, uint64_t texels, uint64_t channels,
+                              uint64_t bytesPerChannel, const std::string &path,
+                              const SourceLocation &loc) {
+  const uint64_t buffer = texels * channels * bytesPerChannel;
+  if (budget)
+    budget->charge(buffer + texels * 3 * sizeof(float), "ImagePigment2D: image '" + path + "'",
+                   loc);
+  return buffer;
+}
+
 /// A float image that is a window of a larger frame (an EXR's data window
 /// inside its display window), with string attributes: a tile of a frame
 /// rendered with --tile or --crop (render/tile_file.h).
@@ -44,8 +59,9 @@ struct FloatWindow {
 struct OiioLibrary {
   /// ImageCache::readImage's contract: any format OpenImageIO reads,
   /// SceneError naming the path on failure.
+  /// The decoding is charged to `budget` (null: none) first, chargeTexture.
   TextureImage (*readImage)(const std::string &path, bool linearWorkflow,
-                            const SourceLocation &loc);
+                            const SourceLocation &loc, MemoryBudget *budget);
   /// Writes width x height pixels of channels.size() interleaved floats
   /// (row 0 = top), the channels named as given, to `path` in the format of
   /// its extension; "" on success, else the reason.

@@ -20,7 +20,8 @@
 namespace lray {
 namespace {
 
-TextureImage readImage(const std::string &path, bool linearWorkflow, const SourceLocation &loc) {
+TextureImage readImage(const std::string &path, bool linearWorkflow, const SourceLocation &loc,
+                       MemoryBudget *budget) {
   // Colours as stored: OIIO would otherwise premultiply PNG/TGA colours by
   // their alpha, darkening textures whose alpha is not 255.
   OIIO::ImageSpec config;
@@ -40,11 +41,15 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
   // The header's size is checked before anything is allocated from it: a
   // 100000 x 100000 header in a tiny file would ask for 120 GB.
   if (texels > kMaxTextureTexels) throw textureTooLarge(loc, path, spec.width, spec.height);
+  // Every channel is decoded (a 16-channel EXR holds 16 floats a texel).
+  const bool eightBit = spec.format == OIIO::TypeDesc::UINT8;
+  const uint64_t buffer =
+      chargeTexture(budget, texels, nch, eightBit ? 1 : sizeof(float), path, loc);
   TextureImage image;
   image.width = spec.width;
   image.height = spec.height;
   bool ok = false;
-  if (spec.format == OIIO::TypeDesc::UINT8) {
+  if (eightBit) {
     std::vector<uint8_t> data(texels * nch);
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, data.data());
     const std::array<float, 256> lut = eightBitTable(linearWorkflow);
@@ -62,6 +67,7 @@ TextureImage readImage(const std::string &path, bool linearWorkflow, const Sourc
                               (why.empty() ? std::string() : " (" + why + ")"));
   }
   in->close();
+  if (budget) budget->release(buffer);
   return image;
 }
 

@@ -61,7 +61,8 @@ Kind kindOf(const std::string &path, uint64_t &pngWidth, uint64_t &pngHeight) {
 } // namespace
 
 std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool linearWorkflow,
-                                                  const SourceLocation &loc) {
+                                                  const SourceLocation &loc,
+                                                  MemoryBudget *budget) {
   uint64_t pngWidth = 0, pngHeight = 0;
   const Kind kind = kindOf(path, pngWidth, pngHeight);
   if (kind == Kind::Other) return std::nullopt;
@@ -80,6 +81,7 @@ std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool 
   if (kind == Kind::Png && stbi_is_16_bit(path.c_str())) return std::nullopt;
   const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height);
   if (texels > kMaxTextureTexels) throw textureTooLarge(loc, path, width, height);
+  const uint64_t buffer = chargeTexture(budget, texels, channels, 1, path, loc);
   std::unique_ptr<stbi_uc, void (*)(void *)> data(
       stbi_load(path.c_str(), &width, &height, &channels, 0), &stbi_image_free);
   if (!data) return broken();
@@ -88,6 +90,7 @@ std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool 
   image.height = height;
   const std::array<float, 256> lut = eightBitTable(linearWorkflow);
   toRgb(data.get(), channels, texels, image.rgb, [&](stbi_uc v) { return lut[v]; });
+  if (budget) budget->release(buffer);
   return image;
 }
 

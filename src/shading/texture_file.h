@@ -6,6 +6,7 @@
 // both read; a broken PNG is reported here.
 #pragma once
 
+#include "util/memory_budget.h"
 #include "util/scene_error.h"
 #include "shading/pigments/texture_image.h"
 
@@ -17,8 +18,10 @@ namespace lray {
 /// The texture at `path` if it is an 8-bit PNG or TGA that stb decodes,
 /// else nothing. Throws SceneError (at `loc`) when its header claims more
 /// than kMaxTextureTexels, before allocating anything, and for a PNG that
-/// cannot be decoded.
+/// cannot be decoded. The decoding is charged to `budget` first (null:
+/// none; oiio_library.h chargeTexture).
 std::optional<TextureImage> decodeEightBitTexture(const std::string &path, bool linearWorkflow,
-                                                  const SourceLocation &loc);
+                                                  const SourceLocation &loc,
+                                                  MemoryBudget *budget = nullptr);
 
 } // namespace lray

@@ -1028,5 +1028,125 @@ TEST_F(Hostile, AnAddressSpaceLimitIsOneClearMessageWherEverItBites) {
   }
 }
 
+// ---- --render-memory: the frame's model, textures and acceleration structure ----
+
+TEST_F(Hostile, ASubtreeListedManyTimesIsChargedEachTimeItIsCopied) {
+  // 4096 solids in one Intersection (the limit of one tree), listed 2^20
+  // times through shared Unions: four billion leaves, refused at a leaf.
+  const std::string s = write(
+      "dag.lua",
+      "local u = Intersection { Sphere(), Sphere() }\n"
+      "for i = 1, 11 do u = Intersection { u, u } end\n"
+      "for i = 1, 20 do u = Union { u, u } end\n"
+      "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+  expectRefused({s, out(), "--render-memory", "256M"}, 1,
+                "dag.lua:1: Sphere: the frame would need more than the render memory budget of "
+                "256 MiB (raise it with --render-memory)",
+                30, 700);
+}
+
+TEST_F(Hostile, OneEntityAddedMillionsOfTimesIsRefusedAtItsLine) {
+  const std::string s = write("many.lua",
+                              "local b = Sphere()\nfunction scene()\n  local s = Scene()\n"
+                              "  for i = 1, 3000000 do s:add_entity(b) end\n  return s\nend\n");
+  expectRefused({s, out(), "--render-memory", "128M"}, 1,
+                "many.lua:1: Sphere: the frame would need more than the render memory budget of "
+                "128 MiB",
+                60, 700);
+}
+
+TEST_F(Hostile, TexturesAreChargedByTheirBytesSummed) {
+  // Two 2000 x 2000 TGA images, 60 MB each decoded (bytes and floats kept):
+  // each fits the budget alone, the two together do not.
+  std::string tga(18, '\0');
+  tga[2] = 2;                                   // uncompressed true colour
+  tga[12] = char(2000 & 255), tga[13] = char(2000 >> 8);
+  tga[14] = char(2000 & 255), tga[15] = char(2000 >> 8);
+  tga[16] = 24;
+  tga += std::string(size_t{2000} * 2000 * 3, '\x40');
+  write("a.tga", tga);
+  write("b.tga", tga);
+  const std::string head = "function scene()\n  local s = Scene()\n";
+  const std::string one =
+      "  s:add_entity(Sphere() { texture = Texture() { pigment = ImagePigment2D('a.tga') } })\n";
+  const std::string two =
+      "  s:add_entity(Sphere() { texture = Texture() { pigment = ImagePigment2D('b.tga') } })\n";
+  const std::string tail = "  return s\nend\n";
+  const std::string alone = write("alone.lua", head + one + tail);
+  const Outcome fits = runLray({alone, out(), "-q", "-w", "4", "-H", "4", "--render-memory",
+                                "100M"}, 30);
+  EXPECT_EQ(fits.status, 0) << fits.output;
+  fs::remove_all(out());
+  const std::string both = write("both.lua", head + one + two + tail);
+  expectRefused({both, out(), "-w", "4", "-H", "4", "--render-memory", "100M"}, 1,
+                "both.lua:4: ImagePigment2D: image '", 30, 400);
+  expectRefused({both, out(), "-w", "4", "-H", "4", "--render-memory", "100M"}, 1,
+                "b.tga': the frame would need more than the render memory budget of 100 MiB "
+                "(raise it with --render-memory)",
+                30, 400);
+}
+
+TEST_F(Hostile, TheAccelerationStructureIsChargedBeforeItIsBuilt) {
+  // 300,000 spheres: the model (about 400 bytes each) fits in 200 MiB, the
+  // model and the backend's build together do not, on either backend.
+  const std::string s = write(
+      "accel.lua", "function scene()\n  local s = Scene()\n  for i = 1, 300000 do\n"
+                   "    s:add_entity(Sphere(Translate(Vector(i, 0, 0))))\n  end\n"
+                   "  return s\nend\n");
+  for (const char *backend : {"embree", "kdtree"}) {
+    SCOPED_TRACE(backend);
+    expectRefused({s, out(), "-w", "4", "-H", "4", "--backend", backend, "--render-memory",
+                   "200M"},
+                  1,
+                  "accel.lua:4: the acceleration structure of 300000 entities and 0 triangles: "
+                  "the frame would need more than the render memory budget of 200 MiB",
+                  60, 700);
+  }
+}
+
+TEST_F(Hostile, AnObjIsChargedAsItIsParsedNotAfter) {
+  // 40 MB of vertices: the text fits in 64 MiB, the text and the arrays do not.
+  std::string obj;
+  obj.reserve(40u << 20);
+  while (obj.size() < (40u << 20)) obj += "v 1 2 3\n";
+  write("big.obj", obj);
+  const std::string s = write("obj.lua", "\nlocal m = mesh_from_obj('big.obj')" + kScene);
+  expectRefused({s, out(), "--script-memory", "64M"}, 1,
+                "obj.lua:2: mesh_from_obj: big.obj:", 30, 250);
+  expectRefused({s, out(), "--script-memory", "64M"}, 1,
+                "MiB the script has left of its memory (raise it with --script-memory)", 30, 250);
+  // Larger than all the script has left: refused before it is read.
+  const Outcome o = runLray({s, out(), "--script-memory", "32M"}, 30);
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.output.find("obj.lua:2: mesh_from_obj: big.obj: 41943040 bytes, more than"),
+            std::string::npos)
+      << o.output;
+  EXPECT_LT(o.peakKiB, 150 * 1024);
+}
+
+TEST_F(Hostile, SkipExistingNeverDecodesAnExistingImageOfAnotherSize) {
+  // An existing "frame" whose header claims 100000 x 100000 texels: read as
+  // a header only, found to be of another size, and rendered over.
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 1, 0x86, 0xa0, 0, 1, 0x86,
+                          0xa0, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  uint32_t crc = 0xffffffffu;
+  for (int i = 4; i < 21; ++i) {
+    crc ^= ihdr[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1)));
+  }
+  crc ^= 0xffffffffu;
+  for (int i = 0; i < 4; ++i) ihdr[21 + i] = static_cast<unsigned char>(crc >> (24 - 8 * i));
+  png.append(reinterpret_cast<const char *>(ihdr), sizeof ihdr);
+  png += std::string(1 << 20, '\0');
+  const std::string s = write("skip.lua", kScene);
+  fs::create_directories(out());
+  std::ofstream(fs::path(out()) / "skip.png", std::ios::binary) << png;
+  const Outcome o = runLray({s, out(), "-q", "-w", "8", "-H", "8", "--skip-existing"}, 20);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_LT(o.peakKiB, 200 * 1024);
+  EXPECT_LT(fs::file_size(fs::path(out()) / "skip.png"), 1000u) << "not rendered over";
+}
+
 } // namespace
 } // namespace lray

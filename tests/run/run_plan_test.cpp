@@ -57,7 +57,7 @@ const std::set<std::string> kNotRenderSettings = {
     "--format",                         // the file, not the pixels: the header records it
     "--quiet", "--stats",               // what is printed
     "--unsafe", "--script-timeout", "--allow-read", "--max-file-size", "--script-memory",
-    "--max-light-samples", "--max-pixels", // limits: a render within them is the same
+    "--render-memory", "--max-light-samples", "--max-pixels", // limits: no pixel changes
     "--watch", "--serve",               // the live preview, which writes no tiles
 };
 

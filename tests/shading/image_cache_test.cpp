@@ -164,7 +164,7 @@ TEST_F(ImageCacheTest, StbDecodesPngAndTgaToTheSameTexelsAsOpenImageIo) {
           continue;
         }
         ++made;
-        const TextureImage slow = oiioLibrary().readImage(path, linear, {});
+        const TextureImage slow = oiioLibrary().readImage(path, linear, {}, nullptr);
         EXPECT_EQ(fast->width, slow.width);
         EXPECT_EQ(fast->height, slow.height);
         EXPECT_EQ(fast->rgb, slow.rgb) << path << (linear ? " linear" : "");
@@ -212,6 +212,35 @@ TEST_F(ImageCacheTest, MissingImageIsASceneErrorNamingPathAndLine) {
     EXPECT_NE(what.find("scene.lua:12"), std::string::npos) << what;
     EXPECT_NE(what.find(path), std::string::npos) << what;
   }
+}
+
+TEST_F(ImageCacheTest, DecodingIsChargedWithEveryChannelBeforeItIsAllocated) {
+  // A 16-channel float EXR decodes as 16 floats a texel, then keeps 3.
+  const int w = 64, h = 32;
+  std::vector<std::string> channels;
+  for (int c = 0; c < 16; ++c) channels.push_back("C" + std::to_string(c));
+  const std::vector<float> pixels(size_t{w} * h * 16, 0.5f);
+  const std::string path = (dir_ / "deep.exr").string();
+  ASSERT_EQ(oiioLibrary().writeFloat(path, w, h, channels, pixels.data()), "");
+  const uint64_t decoded = uint64_t{w} * h * 16 * 4, kept = uint64_t{w} * h * 3 * 4;
+  MemoryBudget tight(decoded + kept - 1, 0);
+  try {
+    ImageCache::readImage(path, false, {"s.lua", 7}, &tight);
+    ADD_FAILURE() << "decoded past the budget";
+  } catch (const SceneError &e) {
+    EXPECT_NE(std::string(e.what()).find("s.lua:7: ImagePigment2D: image '" + path +
+                                         "': the frame would need more than the render memory "
+                                         "budget of"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(tight.used(), 0u);
+  MemoryBudget enough(decoded + kept, 0);
+  ImageCache::readImage(path, false, {}, &enough);
+  EXPECT_EQ(enough.used(), kept) << "the decoder's buffer is given back, the texels kept";
+  // The 8-bit decoder charges the same way: 3 bytes and 3 floats a texel.
+  MemoryBudget small(10, 0);
+  EXPECT_THROW(ImageCache::readImage(writePng(), false, {}, &small), SceneError);
 }
 
 TEST_F(ImageCacheTest, UnreadableImageIsASceneError) {

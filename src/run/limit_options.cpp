@@ -37,7 +37,7 @@ public:
     g.add_option("--render-memory", renderMemory_,
                  "Refuse a frame whose scene model, textures and acceleration structure "
                  "would take more than SIZE (bytes, or with K, M or G; default half the "
-                 "machine's memory, at least 1G)")
+                 "memory the process may have, at least 256M)")
         ->type_name("SIZE");
     g.add_option("--max-light-samples", o.maxLightSamples,
                  "Refuse a light with more shadow rays per shading point (rows*cols) than "

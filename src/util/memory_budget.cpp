@@ -1,17 +1,37 @@
 // Pipeline: shared utilities. See memory_budget.h.
 #include "util/memory_budget.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <string>
 
 namespace lray {
 
-uint64_t defaultRenderMemory() {
+uint64_t memoryAvailable() {
   const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-  const uint64_t machine = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
-  return std::max<uint64_t>(uint64_t{1} << 30, machine / 2);
+  uint64_t bytes = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : UINT64_MAX;
+  // A process limited further (ulimit -v, a container's or a Slurm job's
+  // cgroup) has only that much: past it LRay would die in an allocation.
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    bytes = std::min<uint64_t>(bytes, as.rlim_cur);
+  std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+  std::string max;
+  if (cgroup >> max && !max.empty() && max != "max") {
+    try {
+      bytes = std::min<uint64_t>(bytes, std::stoull(max));
+    } catch (const std::exception &) {
+    }
+  }
+  return bytes;
+}
+
+uint64_t defaultRenderMemory() {
+  return std::max<uint64_t>(uint64_t{256} << 20, memoryAvailable() / 2);
 }
 
 std::string bytesText(uint64_t bytes) {

@@ -13,7 +13,12 @@
 
 namespace lray {
 
-/// Half of this machine's memory, at least 1 GiB: the default budget.
+/// The memory this process may have: the machine's, or less under an
+/// address-space limit (ulimit -v) or a cgroup's memory.max.
+uint64_t memoryAvailable();
+
+/// Half of memoryAvailable(), at least 256 MiB: the default budget (the
+/// script's own memory, --script-memory, and LRay's code are the rest).
 uint64_t defaultRenderMemory();
 
 /// "512 MiB", "2 GiB", "3.2 GiB": a size for a message.

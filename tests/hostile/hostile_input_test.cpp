@@ -1045,6 +1045,25 @@ TEST_F(Hostile, ASubtreeListedManyTimesIsChargedEachTimeItIsCopied) {
                 30, 700);
 }
 
+TEST_F(Hostile, TheDefaultRenderBudgetFollowsTheProcesssMemoryLimit) {
+  // Under a 3 GiB address space (ulimit -v, as a farm would set) and no
+  // --render-memory, the copied subtree is refused at its line by the
+  // budget, not by an allocation failing somewhere inside.
+  const std::string s = write(
+      "dag.lua",
+      "local u = Intersection { Sphere(), Sphere() }\n"
+      "for i = 1, 11 do u = Intersection { u, u } end\n"
+      "for i = 1, 20 do u = Union { u, u } end\n"
+      "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+  const Outcome o = runProgram(LRAY_BINARY, {s, out()}, 60, RLIM_INFINITY, rlim_t{3} << 30);
+  EXPECT_FALSE(o.timedOut);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("dag.lua:1: Sphere: the frame would need more than the render memory "
+                          "budget of 1.5 GiB (raise it with --render-memory)"),
+            std::string::npos)
+      << o.output;
+}
+
 TEST_F(Hostile, OneEntityAddedMillionsOfTimesIsRefusedAtItsLine) {
   const std::string s = write("many.lua",
                               "local b = Sphere()\nfunction scene()\n  local s = Scene()\n"

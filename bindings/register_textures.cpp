@@ -55,7 +55,8 @@ void registerTextureClasses(Registry &reg) {
       .attr("refraction_index", &Finish::refractionIndex)
       .attr("absorption", &Finish::absorption)
       .attr("emission", &Finish::emission, nonNegativeColor)
-      .attr("fresnel", &Finish::fresnel);
+      .attr("fresnel", &Finish::fresnel)
+      .attr("roughness", &Finish::roughness, unitInterval);
 
   // Texture maps: the first class of each C++ type is its default.
   reg.cls<Map2DObj>("TextureMap2D")

@@ -19,6 +19,9 @@ inline const char *positiveNumber(const double &v) { return v > 0 ? nullptr : "a
 inline const char *nonNegativeNumber(const double &v) {
   return v >= 0 ? nullptr : "a number >= 0";
 }
+inline const char *unitInterval(const double &v) {
+  return v >= 0 && v <= 1 ? nullptr : "a number between 0 and 1";
+}
 inline const char *rightAngleOrLess(const double &v) {
   return v >= 0 && v <= 90 ? nullptr : "an angle between 0 and 90 degrees";
 }

@@ -59,6 +59,9 @@ struct Finish {
   /// Reflection and refraction weights times the dielectric Fresnel
   /// reflectance F and 1 - F of refractionIndex.
   bool fresnel = false;
+  /// GGX alpha of the reflection and refraction lobes, in [0, 1]; 0: a
+  /// perfect mirror and refraction (shading/specular_lobes.h).
+  double roughness = 0;
 };
 
 /// A pigment (lua/README.md, "Textures, finishes and pigments"): one of shading/pigments/ with its

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "math/spawn.h"
-#include "shading/fresnel.h"
+#include "shading/specular_lobes.h"
 #include "shading/integrator.h"
 #include "shading/phong.h"
 
@@ -239,25 +239,24 @@ Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c,
   const Finish &f = m.finish;
   if ((!m.reflects && !m.refracts) || depth >= kMaxDepth) return c;
 
-  const Vec3 &n = s.n, &dir = s.dir;
-  double dn = dot(dir, n);
-  Vec3 mirrorDir = dir - n * (2 * dn);
-  double kr = m.reflects ? f.reflection : 0;
-  double kt = m.refracts ? f.refraction : 0;
+  // A rough finish takes one direction per lobe and pixel sample, about
+  // one sampled microfacet (the paper's "glossy finishes").
   const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-  const double cosI = std::clamp(-dn, 0.0, 1.0);
-  if (f.fresnel) { // F is 1 under total internal reflection: nothing is refracted
-    const double fr = fresnelReflectance(cosI, eta);
-    kr *= fr;
-    kt *= 1 - fr;
+  const SpecularLobes lobes = specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, sampler);
+  const double alpha = std::max(ggx::kMinAlpha, f.roughness);
+  double kr = lobes.kr, kt = lobes.kt;
+  const Vec3 &mirrorDir = lobes.mirror;
+  if (lobes.rough) {
+    kr *= lobes.throughput(s.n, s.dir, mirrorDir, alpha, false);
+    kt *= lobes.totalInternal ? lobes.throughput(s.n, s.dir, mirrorDir, alpha, false)
+                              : lobes.throughput(s.n, s.dir, lobes.refracted, alpha, true);
   }
 
   if (kt > 0 && kt * weight >= kBailout) {
-    double k = 1 - eta * eta * (1 - cosI * cosI);
-    if (k < 0) {
+    if (lobes.totalInternal) {
       kr += kt; // total internal reflection: the energy follows the mirror ray
     } else {
-      Vec3 tDir = normalize(dir * eta + n * (eta * cosI - std::sqrt(k)));
+      const Vec3 &tDir = lobes.refracted;
       Ray refracted = spawnRay(hit, tDir);
       ++counts.refraction;
       Hit next;

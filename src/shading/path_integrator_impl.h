@@ -6,7 +6,7 @@
 #include "math/onb.h"
 #include "math/spawn.h"
 #include "shading/emitters.h"
-#include "shading/fresnel.h"
+#include "shading/specular_lobes.h"
 #include "shading/integrator_impl.h"
 #include "shading/path_integrator.h"
 
@@ -92,16 +92,13 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
                        std::max(0.0, s.pigment.g * f.diffuse),
                        std::max(0.0, s.pigment.b * f.diffuse));
     const double wd = (albedo.r + albedo.g + albedo.b) / 3;
-    double kr = m.reflects ? f.reflection : 0;
-    double kt = m.refracts ? f.refraction : 0;
-    const double dn = dot(s.dir, s.n);
+    // A rough finish draws its microfacet here, before the emitters are
+    // sampled: both strategies' densities below then use the same weights.
     const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-    const double cosI = std::clamp(-dn, 0.0, 1.0);
-    if (f.fresnel) {
-      const double fr = fresnelReflectance(cosI, eta);
-      kr *= fr;
-      kt *= 1 - fr;
-    }
+    const SpecularLobes lobes =
+        specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, sampler);
+    const double kr = lobes.kr, kt = lobes.kt;
+    const double alpha = std::max(ggx::kMinAlpha, f.roughness);
     const double total = wd + kr + kt;
     if (!(total > 0)) break;
 
@@ -130,7 +127,6 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     // One lobe, chosen with probability weight / total: the throughput
     // takes the lobe's weight over that probability.
     const double pick = sampler.next() * total;
-    const Vec3 mirror = s.dir - s.n * (2 * dn);
     Vec3 next;
     scatterPdf = 0;
     if (pick < wd) {
@@ -146,22 +142,20 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       from = hit.p;
       ++counts.diffuse;
     } else if (pick < wd + kr) {
-      next = mirror;
-      beta *= total;
+      next = lobes.mirror;
+      beta *= total * lobes.throughput(s.n, s.dir, next, alpha, false);
       absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
       ++counts.reflection;
     } else {
-      const double k = 1 - eta * eta * (1 - cosI * cosI);
-      if (k < 0) { // total internal reflection: the refraction weight follows the mirror
-        next = mirror;
-        absorption = s.entering ? 0 : std::max(0.0, f.absorption);
-      } else {
-        next = normalize(s.dir * eta + s.n * (eta * cosI - std::sqrt(k)));
-        absorption = s.entering ? std::max(0.0, f.absorption) : 0;
-      }
-      beta *= total;
+      // Under total internal reflection the refraction weight follows the mirror.
+      const bool through = !lobes.totalInternal;
+      next = through ? lobes.refracted : lobes.mirror;
+      if (through) absorption = s.entering ? std::max(0.0, f.absorption) : 0;
+      else absorption = s.entering ? 0 : std::max(0.0, f.absorption);
+      beta *= total * lobes.throughput(s.n, s.dir, next, alpha, through);
       ++counts.refraction;
     }
+    if (beta.isBlack()) break; // a rough lobe sent it into the surface
     if (vertex >= kRouletteFrom) {
       const double keep = std::min(1.0, beta.maxComponent());
       if (!(keep > 0) || sampler.next() >= keep) break;

@@ -98,6 +98,14 @@ TEST_F(BindingErrorTest, EmissionIsAColourOfNonNegativeRadianceAndNeedsAnArea) {
             "Color");
   EXPECT_EQ(runLua("Finish().fresnel = 1"),
             "test.lua:1: Finish: attribute 'fresnel' expects a boolean, got number");
+  EXPECT_EQ(runLua("local f = Finish()\nf.roughness = 1.5"),
+            "test.lua:2: Finish: attribute 'roughness' expects a number between 0 and 1, got "
+            "1.5");
+  EXPECT_EQ(runLua("Finish() { roughness = -0.1 }"),
+            "test.lua:1: Finish: attribute 'roughness' expects a number between 0 and 1, got "
+            "-0.1");
+  EXPECT_EQ(runLua("Finish().roughness = 'rough'"),
+            "test.lua:1: Finish: attribute 'roughness' expects a number, got string");
   ASSERT_EQ(runLua("lamp = Texture() { finish = Finish() { emission = white } }\n"
                    "s = Scene()\n"
                    "s:add_entity(Sphere() { texture = lamp })\n"

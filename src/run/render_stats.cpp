@@ -16,9 +16,10 @@ namespace {
 std::string raysJson(const RayCounts &r) {
   return fmt::format(
       R"({{"camera": {}, "shadow": {}, "shadow_skipped": {}, "reflection": {}, )"
-      R"("refraction": {}, "diffuse": {}, "total": {}}})",
+      R"("refraction": {}, "diffuse": {}, "total": {}, "paths": {}, "mean_path_length": {:.6g}}})",
       r.camera, r.shadow, r.shadowSkipped, r.reflection, r.refraction, r.diffuse,
-      r.camera + r.shadow + r.reflection + r.refraction + r.diffuse);
+      r.camera + r.shadow + r.reflection + r.refraction + r.diffuse, r.paths,
+      r.paths ? static_cast<double>(r.pathVertices) / static_cast<double>(r.paths) : 0.0);
 }
 
 std::string errorJson(bool has, double value) {

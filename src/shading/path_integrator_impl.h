@@ -26,8 +26,10 @@ template <class Accel>
 void PathIntegrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
                                       Sampler *samplers, size_t count, Color *out,
                                       RayCounts &counts) const {
-  for (size_t i = 0; i < count; ++i)
+  for (size_t i = 0; i < count; ++i) {
+    counts.paths += !found[i]; // a path of no surface (path() counts the others)
     out[i] = found[i] ? path(rays[i], hits[i], true, samplers[i], counts) : background_;
+  }
 }
 
 template <class Accel>
@@ -59,11 +61,13 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
   // 0 for the camera ray and the mirror and refracted rays.
   double scatterPdf = 0;
   Vec3 from;
+  ++counts.paths;
   for (int vertex = 1;; ++vertex) {
     if (!found) {
       radiance += beta * background_; // a constant environment
       break;
     }
+    ++counts.pathVertices;
     // Beer's law along a segment inside an absorbing object (a segment that
     // leaves it and hits nothing is not attenuated, as in the Whitted image).
     if (absorption > 0) beta *= std::exp(-absorption * hit.t * length(ray.d));

@@ -15,6 +15,10 @@ struct RayCounts {
   uint64_t refraction = 0;
   /// The path tracer's diffusely scattered rays (path_integrator.h).
   uint64_t diffuse = 0;
+  /// The path tracer's paths and the surfaces they met (scattered at or
+  /// ended on): their mean length for --stats.
+  uint64_t paths = 0;
+  uint64_t pathVertices = 0;
   /// Samples whose colour came out NaN or Inf (replaced by black; must stay 0).
   uint64_t nonFinite = 0;
 
@@ -25,6 +29,8 @@ struct RayCounts {
     reflection += o.reflection;
     refraction += o.refraction;
     diffuse += o.diffuse;
+    paths += o.paths;
+    pathVertices += o.pathVertices;
     nonFinite += o.nonFinite;
     return *this;
   }

@@ -51,9 +51,11 @@ FrameSettings settings(int size, int samples, IntegratorKind integrator, int max
 }
 
 /// A frame with backend `kind` (or the tests' brute-force accelerator).
-Film render(const Scene &scene, const FrameSettings &s, std::optional<BackendKind> kind = {}) {
+Film render(const Scene &scene, const FrameSettings &s, std::optional<BackendKind> kind = {},
+            RayCounts *countsOut = nullptr) {
   ImageCache images(false);
-  RayCounts counts;
+  RayCounts local;
+  RayCounts &counts = countsOut ? *countsOut : local;
   if (!kind) {
     testing::BruteForceAccelerator brute(scene, true);
     return testing::renderFrame(scene, brute, images, s, counts);
@@ -314,6 +316,22 @@ TEST(PathIntegrator, RoughLobesKeepAllButTheirShadowedEnergy) {
       f.roughness = 0; // 1, or what the Whitted integrator's depth limit leaves
       EXPECT_NEAR(nearlySmooth, furnaceMeanAndMax(f, kind).first, 1e-3);
     }
+}
+
+TEST(PathIntegrator, StatsCountPathsAndTheSurfacesTheyMeet) {
+  // A convex matte sphere in a sky: a path that hits it scatters once, into
+  // the sky (two-surface paths are impossible), one that misses meets none.
+  Scene s;
+  s.background = {1, 1, 1};
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, matte(0.5)));
+  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
+  s.camera.aspect = 1;
+  RayCounts counts;
+  render(s, settings(16, 2, IntegratorKind::Path), BackendKind::Embree, &counts);
+  EXPECT_EQ(counts.paths, 16u * 16 * 4);
+  EXPECT_EQ(counts.pathVertices, counts.diffuse);
+  EXPECT_GT(counts.pathVertices, counts.paths / 4);
+  EXPECT_LT(counts.pathVertices, counts.paths);
 }
 
 TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {

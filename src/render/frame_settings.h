@@ -54,6 +54,7 @@ struct FrameSettings {
   }
   IntegratorKind integrator = IntegratorKind::Whitted;
   int maxDepth = 8; ///< Path: the most scattering events of a path
+  double clamp = 0; ///< Path: a sample's largest component at most this (0: no clamp)
   bool adaptive = false; ///< progressive passes as `adaptiveSettings` says, instead of n x n
   AdaptiveSettings adaptiveSettings;
   LightSampling lightSampling = LightSampling::All;

@@ -272,7 +272,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       : settings.adaptive ? std::max<uint32_t>(1, firstSobolPass(minSamples, maxSamples) / 2)
                           : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
   const bool pairedStrata = settings.adaptive;
-  const Integ integrator(scene, accel, images, {shares, settings.shadowSkips, settings.maxDepth});
+  const Integ integrator(scene, accel, images, {shares, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const CameraRays camera(scene.camera, settings.width, settings.height);
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
@@ -339,7 +339,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   std::optional<Integ> allCells;
   if (centreFirst && shares > 1)
     allCells.emplace(scene, accel, images,
-                     IntegratorOptions{1, settings.shadowSkips, settings.maxDepth});
+                     IntegratorOptions{1, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const Integ &centreIntegrator = allCells ? *allCells : integrator;
   auto centrePosition = [](int x, int y, uint64_t, uint32_t, Sampler &, double &px, double &py) {
     px = x + 0.5;

@@ -37,6 +37,7 @@ struct Options {
   std::optional<double> noiseThreshold;       ///< adaptive sampling (0: fixed)
   std::optional<std::string> integrator;      ///< --integrator: "whitted" or "path"
   std::optional<int> maxDepth;                ///< --max-depth
+  std::optional<double> clamp;                ///< --clamp: path samples' largest component
   std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel
   double timeLimit = 0;                       ///< seconds per frame; 0: none
   uint32_t seed = 0;                          ///< the random stream's seed

@@ -82,6 +82,7 @@ std::vector<PlanSetting> RunPlan::settings() const {
        jsonString(frameSettings.integrator == IntegratorKind::Path ? "path" : "whitted")},
       {"max_depth", std::to_string(frameSettings.maxDepth),
        frameSettings.integrator == IntegratorKind::Path},
+      {"clamp", number(frameSettings.clamp), frameSettings.integrator == IntegratorKind::Path},
       {"width", std::to_string(info.imageWidth)},
       {"height", std::to_string(info.imageHeight)},
       {"samples", std::to_string(info.samples)},

@@ -73,6 +73,11 @@ public:
                  "Path tracing: the most scattering events of a path (default 8; overrides "
                  "scene_info)")
         ->check(positive);
+    g.add_option("--clamp", o.clamp,
+                 "Path tracing: scale each sample down so that no colour component is above "
+                 "VALUE (removes fireflies, darkens what is truly brighter; default: none)")
+        ->type_name("VALUE")
+        ->check(positive);
     g.add_flag("--no-shadow-skips", o.noShadowSkips,
                "Trace every shadow ray, even where nothing lies between a tile and a light "
                "(the same image; for measuring)");
@@ -148,6 +153,7 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   s.seed = options.seed;
   s.integrator = info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;
   s.maxDepth = info.maxDepth;
+  s.clamp = options.clamp.value_or(0);
   s.shadowSkips = !options.noShadowSkips;
   s.lightSampling =
       options.lightSampling.value_or(s.adaptive ? LightSampling::Spread : LightSampling::All);

@@ -15,6 +15,8 @@ struct IntegratorOptions {
   /// The path tracer's most scattering events per path (the Whitted
   /// integrator's depth is fixed: Integrator::kMaxDepth).
   int maxDepth = 8;
+  /// The path tracer scales a sample down to this largest component (--clamp; 0: never).
+  double clamp = 0;
 };
 
 } // namespace lray

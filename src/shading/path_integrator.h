@@ -59,6 +59,13 @@ private:
   Emitters emitters_; ///< emitting surfaces, sampled from diffuse points
   Color background_;
   int maxDepth_;
+  double clamp_; ///< --clamp; 0: none
+
+  /// --clamp, as pbrt-v4's maxcomponentvalue: the sample keeps its hue.
+  Color clamped(Color c) const {
+    const double largest = c.maxComponent();
+    return clamp_ > 0 && largest > clamp_ ? c * (clamp_ / largest) : c;
+  }
 };
 
 } // namespace lray

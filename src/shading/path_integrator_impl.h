@@ -20,7 +20,8 @@ template <class Accel>
 PathIntegrator<Accel>::PathIntegrator(const Scene &scene, const Accel &accel,
                                       const ImageCache &images, const IntegratorOptions &options)
     : accel_(accel), local_(scene, accel, images, options), emitters_(scene),
-      background_(scene.background), maxDepth_(std::max(1, options.maxDepth)) {}
+      background_(scene.background), maxDepth_(std::max(1, options.maxDepth)),
+      clamp_(options.clamp) {}
 
 template <class Accel>
 void PathIntegrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
@@ -28,7 +29,7 @@ void PathIntegrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const ui
                                       RayCounts &counts) const {
   for (size_t i = 0; i < count; ++i) {
     counts.paths += !found[i]; // a path of no surface (path() counts the others)
-    out[i] = found[i] ? path(rays[i], hits[i], true, samplers[i], counts) : background_;
+    out[i] = found[i] ? path(rays[i], hits[i], true, samplers[i], counts) : clamped(background_);
   }
 }
 
@@ -168,7 +169,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     ray = spawnRay(hit, next);
     found = accel_.intersect(ray, hit);
   }
-  return radiance;
+  return clamped(radiance);
 }
 
 } // namespace lray

@@ -43,6 +43,7 @@ const SettingPair kRenderSettings[] = {
     {"--light-sampling", "-s 2", "-s 2 --light-sampling spread"},
     {"--integrator", "", "--integrator path"},
     {"--max-depth", "--integrator path", "--integrator path --max-depth 1"},
+    {"--clamp", "--integrator path", "--integrator path --clamp 0.05"},
     {"--linear", "", "--linear"},
     {"--aovs", "-f exr", "-f exr --aovs"},
     {"--no-shadow-skips", "", "--no-shadow-skips"},
@@ -171,7 +172,7 @@ TEST_F(RunPlanTest, StatsCarryThePlansSettings) {
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string json = readFile(stats);
   EXPECT_NE(json.find(R"("settings": {"backend":"embree","integrator":"whitted","max_depth":8,)"
-                      R"("width":16,)"),
+                      R"("clamp":0,"width":16,)"),
             std::string::npos)
       << json;
   EXPECT_NE(json.find(R"("seed":5,)"), std::string::npos) << json;

@@ -334,6 +334,26 @@ TEST(PathIntegrator, StatsCountPathsAndTheSurfacesTheyMeet) {
   EXPECT_LT(counts.pathVertices, counts.paths);
 }
 
+TEST(PathIntegrator, ClampScalesEachSampleDownKeepingItsHue) {
+  Scene s;
+  s.background = {0.5, 0.25, 0.125};
+  Finish lamp = matte(0);
+  lamp.emission = {8, 4, 2};
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, lamp));
+  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
+  s.camera.aspect = 1;
+  FrameSettings clamped = settings(8, 1, IntegratorKind::Path);
+  clamped.clamp = 1;
+  const Film plain = render(s, settings(8, 1, IntegratorKind::Path), BackendKind::Embree);
+  const Film film = render(s, clamped, BackendKind::Embree);
+  EXPECT_NEAR(plain.get(4, 4).r, 8, 1e-12);
+  EXPECT_NEAR(film.get(4, 4).r, 1, 1e-12);  // the lamp, seen directly
+  EXPECT_NEAR(film.get(4, 4).g, 0.5, 1e-12); // the same hue
+  EXPECT_NEAR(film.get(0, 0).r, 0.5, 1e-12); // the sky is below the clamp
+  clamped.clamp = 100;
+  EXPECT_NEAR(render(s, clamped, BackendKind::Embree).get(4, 4).r, 8, 1e-12);
+}
+
 TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {
   Scene s = litScene();
   Finish glass = matte(0.1);

@@ -108,6 +108,23 @@ Outcome runMerge(const std::vector<std::string> &args, double limitSeconds) {
                     limitSeconds);
 }
 
+/// A valid PNG signature and IHDR chunk for 100000 x 100000 RGB, and no data.
+std::string hugePngHeader() {
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 1, 0x86, 0xa0, 0, 1, 0x86,
+                          0xa0, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  // The chunk's CRC-32 (over type and data), so the header itself is valid.
+  uint32_t crc = 0xffffffffu;
+  for (int i = 4; i < 21; ++i) {
+    crc ^= ihdr[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1)));
+  }
+  crc ^= 0xffffffffu;
+  for (int i = 0; i < 4; ++i) ihdr[21 + i] = static_cast<unsigned char>(crc >> (24 - 8 * i));
+  png.append(reinterpret_cast<const char *>(ihdr), sizeof ihdr);
+  return png;
+}
+
 class Hostile : public ::testing::Test {
 protected:
   void SetUp() override {
@@ -466,20 +483,7 @@ TEST_F(Hostile, AMissingObjNamesThePathAndLine) {
 }
 
 TEST_F(Hostile, APngWhoseHeaderClaimsAHugeImageIsRefusedBeforeAllocating) {
-  // A valid signature and IHDR chunk for 100000 x 100000 RGB, and no data.
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 1, 0x86, 0xa0, 0, 1, 0x86,
-                          0xa0, 8, 2, 0, 0, 0, 0, 0, 0, 0};
-  // The chunk's CRC-32 (over type and data), so the header itself is valid.
-  uint32_t crc = 0xffffffffu;
-  for (int i = 4; i < 21; ++i) {
-    crc ^= ihdr[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1)));
-  }
-  crc ^= 0xffffffffu;
-  for (int i = 0; i < 4; ++i) ihdr[21 + i] = static_cast<unsigned char>(crc >> (24 - 8 * i));
-  png.append(reinterpret_cast<const char *>(ihdr), sizeof ihdr);
-  write("huge.png", png);
+  write("huge.png", hugePngHeader());
   const std::string s = write(
       "img.lua", "function scene()\n  local s = Scene()\n"
                  "  s:add_entity(Sphere() { texture = Texture() { pigment = "
@@ -1030,15 +1034,17 @@ TEST_F(Hostile, AnAddressSpaceLimitIsOneClearMessageWherEverItBites) {
 
 // ---- --render-memory: the frame's model, textures and acceleration structure ----
 
+/// 4096 solids in one Intersection (the limit of one tree), listed 2^20
+/// times through shared Unions: four billion leaves.
+const std::string kCopiedSubtree =
+    "local u = Intersection { Sphere(), Sphere() }\n"
+    "for i = 1, 11 do u = Intersection { u, u } end\n"
+    "for i = 1, 20 do u = Union { u, u } end\n"
+    "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n";
+
 TEST_F(Hostile, ASubtreeListedManyTimesIsChargedEachTimeItIsCopied) {
-  // 4096 solids in one Intersection (the limit of one tree), listed 2^20
-  // times through shared Unions: four billion leaves, refused at a leaf.
-  const std::string s = write(
-      "dag.lua",
-      "local u = Intersection { Sphere(), Sphere() }\n"
-      "for i = 1, 11 do u = Intersection { u, u } end\n"
-      "for i = 1, 20 do u = Union { u, u } end\n"
-      "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+  // Refused at a leaf, long before four billion of them are made.
+  const std::string s = write("dag.lua", kCopiedSubtree);
   expectRefused({s, out(), "--render-memory", "256M"}, 1,
                 "dag.lua:1: Sphere: the frame would need more than the render memory budget of "
                 "256 MiB (raise it with --render-memory)",
@@ -1049,12 +1055,7 @@ TEST_F(Hostile, TheDefaultRenderBudgetFollowsTheProcesssMemoryLimit) {
   // Under a 3 GiB address space (ulimit -v, as a farm would set) and no
   // --render-memory, the copied subtree is refused at its line by the
   // budget, not by an allocation failing somewhere inside.
-  const std::string s = write(
-      "dag.lua",
-      "local u = Intersection { Sphere(), Sphere() }\n"
-      "for i = 1, 11 do u = Intersection { u, u } end\n"
-      "for i = 1, 20 do u = Union { u, u } end\n"
-      "function scene()\n  local s = Scene()\n  s:add_entity(u)\n  return s\nend\n");
+  const std::string s = write("dag.lua", kCopiedSubtree);
   const Outcome o = runProgram(LRAY_BINARY, {s, out()}, 60, RLIM_INFINITY, rlim_t{3} << 30);
   EXPECT_FALSE(o.timedOut);
   EXPECT_EQ(o.status, 1) << o.output;
@@ -1146,18 +1147,7 @@ TEST_F(Hostile, AnObjIsChargedAsItIsParsedNotAfter) {
 TEST_F(Hostile, SkipExistingNeverDecodesAnExistingImageOfAnotherSize) {
   // An existing "frame" whose header claims 100000 x 100000 texels: read as
   // a header only, found to be of another size, and rendered over.
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 1, 0x86, 0xa0, 0, 1, 0x86,
-                          0xa0, 8, 2, 0, 0, 0, 0, 0, 0, 0};
-  uint32_t crc = 0xffffffffu;
-  for (int i = 4; i < 21; ++i) {
-    crc ^= ihdr[i];
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1)));
-  }
-  crc ^= 0xffffffffu;
-  for (int i = 0; i < 4; ++i) ihdr[21 + i] = static_cast<unsigned char>(crc >> (24 - 8 * i));
-  png.append(reinterpret_cast<const char *>(ihdr), sizeof ihdr);
-  png += std::string(1 << 20, '\0');
+  const std::string png = hugePngHeader() + std::string(1 << 20, '\0');
   const std::string s = write("skip.lua", kScene);
   fs::create_directories(out());
   std::ofstream(fs::path(out()) / "skip.png", std::ios::binary) << png;

@@ -137,16 +137,22 @@ void expectWhiteFurnace(const Finish &finish, int maxDepth, double tolerance) {
     }
 }
 
-TEST(PathIntegrator, AWhiteFurnaceIsInvisible) {
-  // Albedo 1: every path ends in the environment with throughput 1.
-  expectWhiteFurnace(matte(1), 64, 1e-9);
-  // Fresnel glass: reflection F and refraction 1 - F sum to 1.
+/// Glass that keeps its energy: reflection F and refraction 1 - F, no absorption.
+Finish clearGlass() {
   Finish glass = matte(0);
   glass.reflection = 1;
   glass.refraction = 1;
   glass.refractionIndex = 1.5;
   glass.absorption = 0;
   glass.fresnel = true;
+  return glass;
+}
+
+TEST(PathIntegrator, AWhiteFurnaceIsInvisible) {
+  // Albedo 1: every path ends in the environment with throughput 1.
+  expectWhiteFurnace(matte(1), 64, 1e-9);
+  // Fresnel glass: reflection F and refraction 1 - F sum to 1.
+  Finish glass = clearGlass();
   expectWhiteFurnace(glass, 64, 1e-9);
   // Albedo 0.5 in a white furnace is darker: the control.
   Scene s;
@@ -255,14 +261,21 @@ TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
   EXPECT_LT(standardError, 0.005);
 }
 
-TEST(PathIntegrator, EmissionSeenDirectlyIsItsRadiance) {
+/// A unit sphere of `finish` at the origin under a constant sky, seen from
+/// `distance` down +z with a square image.
+Scene sphereInSky(const Finish &finish, const Color &sky, double distance = 3) {
   Scene s;
-  s.background = {0.3, 0.3, 0.3};
+  s.background = sky;
+  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, finish));
+  s.camera.worldFromCamera = Transform::translate({0, 0, -distance});
+  s.camera.aspect = 1;
+  return s;
+}
+
+TEST(PathIntegrator, EmissionSeenDirectlyIsItsRadiance) {
   Finish lamp = matte(0);
   lamp.emission = {3, 2, 1};
-  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, lamp));
-  s.camera.worldFromCamera = Transform::translate({0, 0, -4});
-  s.camera.aspect = 1;
+  const Scene s = sphereInSky(lamp, {0.3, 0.3, 0.3}, 4);
   const Film film = render(s, settings(9, 1, IntegratorKind::Path), BackendKind::Embree);
   EXPECT_EQ(film.get(4, 4), Color(3, 2, 1));
   EXPECT_NEAR(film.get(0, 0).g, 0.3, 1e-7); // the environment, seen directly (a float film)
@@ -294,12 +307,7 @@ TEST(PathIntegrator, RoughLobesKeepAllButTheirShadowedEnergy) {
   // when nearly smooth.
   Finish mirror = matte(0);
   mirror.reflection = 1;
-  Finish glass = matte(0);
-  glass.reflection = 1;
-  glass.refraction = 1;
-  glass.refractionIndex = 1.5;
-  glass.absorption = 0;
-  glass.fresnel = true;
+  Finish glass = clearGlass();
   for (Finish f : {mirror, glass})
     for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Whitted}) {
       SCOPED_TRACE(std::string(f.refraction > 0 ? "glass " : "mirror ") +
@@ -321,11 +329,7 @@ TEST(PathIntegrator, RoughLobesKeepAllButTheirShadowedEnergy) {
 TEST(PathIntegrator, StatsCountPathsAndTheSurfacesTheyMeet) {
   // A convex matte sphere in a sky: a path that hits it scatters once, into
   // the sky (two-surface paths are impossible), one that misses meets none.
-  Scene s;
-  s.background = {1, 1, 1};
-  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, matte(0.5)));
-  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
-  s.camera.aspect = 1;
+  const Scene s = sphereInSky(matte(0.5), {1, 1, 1});
   RayCounts counts;
   render(s, settings(16, 2, IntegratorKind::Path), BackendKind::Embree, &counts);
   EXPECT_EQ(counts.paths, 16u * 16 * 4);
@@ -335,13 +339,9 @@ TEST(PathIntegrator, StatsCountPathsAndTheSurfacesTheyMeet) {
 }
 
 TEST(PathIntegrator, ClampScalesEachSampleDownKeepingItsHue) {
-  Scene s;
-  s.background = {0.5, 0.25, 0.125};
   Finish lamp = matte(0);
   lamp.emission = {8, 4, 2};
-  addEntity(s, ShapeKind::Sphere, Transform(), addTexture(s, lamp));
-  s.camera.worldFromCamera = Transform::translate({0, 0, -3});
-  s.camera.aspect = 1;
+  const Scene s = sphereInSky(lamp, {0.5, 0.25, 0.125});
   FrameSettings clamped = settings(8, 1, IntegratorKind::Path);
   clamped.clamp = 1;
   const Film plain = render(s, settings(8, 1, IntegratorKind::Path), BackendKind::Embree);

@@ -200,7 +200,14 @@ void renderAovs(const Accel &accel, const Integ &integrator, const Scene &scene,
           if (!accel.intersect(ray, hit)) continue;
           ++hits;
           depth += cameraFromWorld.applyPoint(hit.p).z;
-          const Vec3 facing = dot(ray.d, hit.ng) < 0 ? hit.ns : -hit.ns;
+          Ray seen = ray; // on through perfect mirrors and glass (path tracer)
+          if (!integrator.aovVertex(seen, hit)) {
+            const Color &sky = scene.background; // seen in the mirror, at most 1
+            albedo += Color(std::clamp(sky.r, 0.0, 1.0), std::clamp(sky.g, 0.0, 1.0),
+                            std::clamp(sky.b, 0.0, 1.0));
+            continue;
+          }
+          const Vec3 facing = dot(seen.d, hit.ng) < 0 ? hit.ns : -hit.ns;
           normal += normalize(cameraFromWorld.applyNormal(facing));
           albedo += integrator.albedo(hit);
         }

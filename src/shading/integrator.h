@@ -85,6 +85,10 @@ public:
 
   Color background() const { return background_; }
 
+  /// The hit whose albedo and normal --aovs records for a camera ray: the
+  /// first (the path tracer follows perfect mirrors and glass instead).
+  bool aovVertex(Ray &, Hit &) const { return true; }
+
   /// The pigment colour at a hit: the albedo a denoiser takes (--aovs).
   Color albedo(const Hit &hit) const {
     return evaluatePigment(pigmentTable_, materials_.ofHit(hit).pigment, hit);

@@ -48,6 +48,12 @@ public:
   /// The pigment colour at a hit: the albedo a denoiser takes (--aovs).
   Color albedo(const Hit &hit) const { return local_.albedo(hit); }
 
+  /// Moves `ray` and `hit` (a camera ray's first hit) on to the first
+  /// vertex that is not a perfect mirror or refraction, where a denoiser
+  /// wants the albedo and normal (following the stronger smooth lobe, at
+  /// most 8 times); false when the ray leaves the scene on the way.
+  bool aovVertex(Ray &ray, Hit &hit) const;
+
 private:
   Color path(Ray ray, Hit hit, bool found, Sampler &sampler, RayCounts &counts) const;
 

@@ -40,6 +40,34 @@ Color PathIntegrator<Accel>::trace(const Ray &ray, Sampler &sampler, RayCounts &
   return path(ray, hit, found, sampler, counts);
 }
 
+template <class Accel> bool PathIntegrator<Accel>::aovVertex(Ray &ray, Hit &hit) const {
+  using Surface = typename Integrator<Accel>::Surface;
+  constexpr int kMaxFollowed = 8;
+  for (int k = 0; k < kMaxFollowed; ++k) {
+    Surface s;
+    local_.surfaceAt(ray, hit, s);
+    const Material &m = *s.m;
+    const Finish &f = m.finish;
+    double kr = m.reflects ? f.reflection : 0, kt = m.refracts ? f.refraction : 0;
+    const bool diffuse = f.diffuse > 0 && s.pigment.maxComponent() > 0;
+    if (diffuse || m.emits || f.roughness > 0 || (kr <= 0 && kt <= 0)) return true;
+    const double dn = dot(s.dir, s.n), cosI = std::clamp(-dn, 0.0, 1.0);
+    const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
+    if (f.fresnel) {
+      const double fr = fresnelReflectance(cosI, eta);
+      kr *= fr;
+      kt *= 1 - fr;
+    }
+    const double k2 = 1 - eta * eta * (1 - cosI * cosI);
+    const Vec3 next = kt > kr && k2 >= 0
+                          ? normalize(s.dir * eta + s.n * (eta * cosI - std::sqrt(k2)))
+                          : s.dir - s.n * (2 * dn);
+    ray = spawnRay(hit, next);
+    if (!accel_.intersect(ray, hit)) return false;
+  }
+  return true;
+}
+
 namespace path_detail {
 
 /// The power heuristic (exponent 2) weight of a strategy of density `a`

@@ -354,6 +354,30 @@ TEST(PathIntegrator, ClampScalesEachSampleDownKeepingItsHue) {
   EXPECT_NEAR(render(s, clamped, BackendKind::Embree).get(4, 4).r, 8, 1e-12);
 }
 
+TEST(PathIntegrator, AovsAreThoseOfTheFirstSurfaceThatIsNotAPerfectMirror) {
+  // A mirror sphere under a sky, a red matte sphere behind a glass one:
+  // the path tracer's albedo is what the mirror and the glass show (as
+  // denoisers want it), the Whitted one's the first surface's pigment.
+  Finish mirror = matte(0);
+  mirror.reflection = 1;
+  Scene s = sphereInSky(mirror, {0.2, 0.4, 0.6});
+  FrameSettings path = settings(9, 1, IntegratorKind::Path), whitted = path;
+  whitted.integrator = IntegratorKind::Whitted;
+  path.aovs = whitted.aovs = true;
+  const Film::Aov &a = render(s, path, BackendKind::Embree).aov(4, 4);
+  EXPECT_NEAR(a.albedo[0], 0.2, 1e-6);
+  EXPECT_NEAR(a.albedo[2], 0.6, 1e-6);
+  EXPECT_NEAR(render(s, whitted, BackendKind::Embree).aov(4, 4).albedo[0], 1, 1e-6);
+
+  s = sphereInSky(clearGlass(), {0, 0, 0});
+  const uint32_t t = addTexture(s, matte(1), {0.9, 0.1, 0.1});
+  addEntity(s, ShapeKind::Sphere, Transform::translate({0, 0, 6}) * Transform::scale(3, 3, 3), t);
+  const Film film = render(s, path, BackendKind::Embree);
+  EXPECT_NEAR(film.aov(4, 4).albedo[0], 0.9, 1e-6);
+  EXPECT_NEAR(film.aov(4, 4).albedo[1], 0.1, 1e-6);
+  EXPECT_LT(film.aov(4, 4).n[2], 0); // the red sphere's front faces the camera
+}
+
 TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {
   Scene s = litScene();
   Finish glass = matte(0.1);

@@ -37,6 +37,17 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
       entries_.push_back({i, 0, Kind::Cube, 0, 6});
       power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
       break;
+    case ShapeKind::Cylinder: // the side (2 pi) and two caps (pi each) unless open
+      entries_.push_back({i, 0, Kind::Cylinder, 0,
+                          std::numbers::pi * (std::get<Cylinder>(e.shape).open ? 2 : 4)});
+      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
+      break;
+    case ShapeKind::Cone: // the side (pi sqrt 2) and the base (pi) unless open
+      entries_.push_back({i, 0, Kind::Cone, 0,
+                          std::numbers::pi * (std::sqrt(2.0) +
+                                              (std::get<Cone>(e.shape).open ? 0 : 1))});
+      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
+      break;
     case ShapeKind::Mesh:
       for (uint32_t t = 0; t < e.mesh->triangles.size(); ++t) {
         const uint32_t *v = e.mesh->triangles[t].v;
@@ -108,6 +119,8 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
     const double z = 1 - 2 * u, r = std::sqrt(std::max(0.0, 1 - z * z));
     const double phi = 2 * std::numbers::pi * v;
     pObject = nObject = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  } else if (entry.kind == Kind::Cylinder || entry.kind == Kind::Cone) {
+    sampleRound(entry, u, v, pObject, nObject);
   } else { // Cube: a face (of six, equally likely), then a point on it
     const int face = std::min(5, static_cast<int>(u * 6));
     const double a = u * 6 - face - 0.5, b = v - 0.5;
@@ -130,6 +143,37 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
   s.n = unitVector(affineNormal(e.worldFromObject.inverseMatrix(), nObject));
   s.pdfArea = entry.probability * worldAreaFactor(e, s.n) / entry.area;
   return s;
+}
+
+void Emitters::sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const {
+  // Uniform by object-space area: the side with its share of the area,
+  // else a cap (of two equally likely for a cylinder).
+  const bool cylinder = entry.kind == Kind::Cylinder;
+  const double side = cylinder ? 2 * std::numbers::pi : std::numbers::pi * std::sqrt(2.0);
+  const double sideShare = side / entry.area;
+  const double phi = 2 * std::numbers::pi * v;
+  const double c = std::cos(phi), s = std::sin(phi);
+  if (u < sideShare) {
+    const double w = u / sideShare;
+    if (cylinder) {
+      p = {c, w, s};
+      n = {c, 0, s};
+    } else { // the radius grows from the apex: density proportional to it
+      const double r = std::sqrt(w);
+      p = {r * c, 1 - r, r * s};
+      n = Vec3(c, 1, s) / std::sqrt(2.0);
+    }
+    return;
+  }
+  double w = (u - sideShare) / (1 - sideShare);
+  bool top = false;
+  if (cylinder) {
+    top = w >= 0.5;
+    w = top ? 2 * w - 1 : 2 * w;
+  }
+  const double r = std::sqrt(std::clamp(w, 0.0, 1.0));
+  p = {r * c, top ? 1.0 : 0.0, r * s};
+  n = {0, top ? 1.0 : -1.0, 0};
 }
 
 double Emitters::pdfArea(const Hit &hit) const {

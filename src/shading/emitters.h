@@ -4,8 +4,8 @@
 // One is chosen by its power (emission's mean times its area), then a
 // point on it uniformly by its object-space area (exactly by world area for
 // triangles). pdfArea gives the same density for a point a path found by
-// itself, for multiple importance sampling. Emitting CSG leaves, cylinders,
-// cones and tori are not sampled: paths find them by bouncing.
+// itself, for multiple importance sampling. Emitting CSG leaves and tori
+// are not sampled: paths find them by bouncing.
 #pragma once
 
 #include "math/color.h"
@@ -39,7 +39,7 @@ public:
   double pdfArea(const Hit &hit) const;
 
 private:
-  enum class Kind : uint8_t { Sphere, Cube, Triangle };
+  enum class Kind : uint8_t { Sphere, Cube, Cylinder, Cone, Triangle };
   struct Entry {
     uint32_t entity;
     uint32_t triangle; ///< Triangle: its index in the mesh
@@ -47,6 +47,9 @@ private:
     double probability; ///< of choosing this entry
     double area;        ///< Triangle: world area; else object-space area
   };
+  /// A point and its outward object-space normal on a cylinder or cone,
+  /// uniform by object-space area, from two uniform numbers.
+  void sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const;
   /// Object-space area over world area at a point of world normal n
   /// (unit) on an affinely placed surface.
   double worldAreaFactor(const Entity &e, const Vec3 &n) const;

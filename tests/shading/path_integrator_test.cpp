@@ -219,20 +219,10 @@ TEST(PathIntegrator, InsideAnEmittingBoxTheAlbedoSeriesSumsToMaxDepth) {
   }
 }
 
-TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
-  // A small matte square facing an emitting sphere of radius R, radiance L,
-  // centre at distance d: irradiance pi L (R / d)^2, so the square shows
-  // albedo * L * (R / d)^2 (max_depth 1: the direct light alone). The
-  // sphere is placed by a rotation and a uniform scale: its points are
-  // drawn in object space, and their density must follow it to world area.
-  Scene s;
-  const double R = 0.5, d = 2, L = 4, albedo = 0.8;
-  Finish lamp = matte(0);
-  lamp.emission = {L, L, L};
-  addEntity(s, ShapeKind::Sphere,
-            Transform::translate({0, d, 0}) * Transform::rotate({1, 1, 0}, 30) *
-                Transform::scale(R, R, R),
-            addTexture(s, lamp));
+/// Adds a small matte square of `albedo` at the origin facing +y, seen
+/// alone by the camera, renders the direct light on it (max_depth 1) and
+/// returns its mean value and that mean's standard error.
+std::pair<double, double> litSquare(Scene &s, double albedo) {
   Entity square;
   square.shape = makeShape(ShapeKind::Mesh);
   auto mesh = std::make_shared<MeshData>();
@@ -256,9 +246,47 @@ TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
       squares += film.get(x, y).r * film.get(x, y).r;
     }
   const double n = kSize * kSize, mean = sum / n;
-  const double standardError = std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1));
+  return {mean, std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1))};
+}
+
+TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
+  // A small matte square facing an emitting sphere of radius R, radiance L,
+  // centre at distance d: irradiance pi L (R / d)^2, so the square shows
+  // albedo * L * (R / d)^2 (max_depth 1: the direct light alone). The
+  // sphere is placed by a rotation and a uniform scale: its points are
+  // drawn in object space, and their density must follow it to world area.
+  Scene s;
+  const double R = 0.5, d = 2, L = 4, albedo = 0.8;
+  Finish lamp = matte(0);
+  lamp.emission = {L, L, L};
+  addEntity(s, ShapeKind::Sphere,
+            Transform::translate({0, d, 0}) * Transform::rotate({1, 1, 0}, 30) *
+                Transform::scale(R, R, R),
+            addTexture(s, lamp));
+  const auto [mean, standardError] = litSquare(s, albedo);
   EXPECT_NEAR(mean, albedo * L * (R / d) * (R / d), 4 * standardError + 1e-3);
   EXPECT_LT(standardError, 0.005);
+}
+
+TEST(PathIntegrator, CylinderAndConeEmittersLightAPointAsTheirBaseDiskSays) {
+  // The base of a cylinder or cone (radius R, radiance L) faces the square
+  // from height d: a disk on the axis gives irradiance pi L R^2 / (d^2 +
+  // R^2); their sides face away. Non-uniform scales and a turn about the
+  // axis: the object-space samples' density must follow them to world area.
+  for (ShapeKind kind : {ShapeKind::Cylinder, ShapeKind::Cone}) {
+    SCOPED_TRACE(kind == ShapeKind::Cylinder ? "cylinder" : "cone");
+    Scene s;
+    const double R = 0.6, d = 1.5, L = 3, albedo = 0.7;
+    Finish lamp = matte(0);
+    lamp.emission = {L, L, L};
+    addEntity(s, kind,
+              Transform::translate({0, d, 0}) * Transform::rotate({0, 1, 0}, 40) *
+                  Transform::scale(R, 0.4, R),
+              addTexture(s, lamp));
+    const auto [mean, standardError] = litSquare(s, albedo);
+    EXPECT_NEAR(mean, albedo * L * R * R / (d * d + R * R), 4 * standardError + 1e-3);
+    EXPECT_LT(standardError, 0.01);
+  }
 }
 
 /// A unit sphere of `finish` at the origin under a constant sky, seen from

@@ -243,13 +243,12 @@ Color Integrator<Accel>::addSecondary(const Hit &hit, const Surface &s, Color c,
   // one sampled microfacet (the paper's "glossy finishes").
   const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
   const SpecularLobes lobes = specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, sampler);
-  const double alpha = std::max(ggx::kMinAlpha, f.roughness);
   double kr = lobes.kr, kt = lobes.kt;
   const Vec3 &mirrorDir = lobes.mirror;
   if (lobes.rough) {
-    kr *= lobes.throughput(s.n, s.dir, mirrorDir, alpha, false);
-    kt *= lobes.totalInternal ? lobes.throughput(s.n, s.dir, mirrorDir, alpha, false)
-                              : lobes.throughput(s.n, s.dir, lobes.refracted, alpha, true);
+    kr *= lobes.throughput(s.n, s.dir, mirrorDir, false);
+    kt *= lobes.totalInternal ? lobes.throughput(s.n, s.dir, mirrorDir, false)
+                              : lobes.throughput(s.n, s.dir, lobes.refracted, true);
   }
 
   if (kt > 0 && kt * weight >= kBailout) {

@@ -48,21 +48,15 @@ template <class Accel> bool PathIntegrator<Accel>::aovVertex(Ray &ray, Hit &hit)
     local_.surfaceAt(ray, hit, s);
     const Material &m = *s.m;
     const Finish &f = m.finish;
-    double kr = m.reflects ? f.reflection : 0, kt = m.refracts ? f.refraction : 0;
     const bool diffuse = f.diffuse > 0 && s.pigment.maxComponent() > 0;
-    if (diffuse || m.emits || f.roughness > 0 || (kr <= 0 && kt <= 0)) return true;
-    const double dn = dot(s.dir, s.n), cosI = std::clamp(-dn, 0.0, 1.0);
+    const bool specular = (m.reflects && f.reflection > 0) || (m.refracts && f.refraction > 0);
+    if (diffuse || m.emits || f.roughness > 0 || !specular) return true;
+    // Smooth: the lobes draw nothing from the sampler.
+    Sampler unused;
     const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
-    if (f.fresnel) {
-      const double fr = fresnelReflectance(cosI, eta);
-      kr *= fr;
-      kt *= 1 - fr;
-    }
-    const double k2 = 1 - eta * eta * (1 - cosI * cosI);
-    const Vec3 next = kt > kr && k2 >= 0
-                          ? normalize(s.dir * eta + s.n * (eta * cosI - std::sqrt(k2)))
-                          : s.dir - s.n * (2 * dn);
-    ray = spawnRay(hit, next);
+    const SpecularLobes lobes = specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, unused);
+    ray = spawnRay(hit, lobes.kt > lobes.kr && !lobes.totalInternal ? lobes.refracted
+                                                                     : lobes.mirror);
     if (!accel_.intersect(ray, hit)) return false;
   }
   return true;
@@ -131,7 +125,6 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     const SpecularLobes lobes =
         specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, sampler);
     const double kr = lobes.kr, kt = lobes.kt;
-    const double alpha = std::max(ggx::kMinAlpha, f.roughness);
     const double total = wd + kr + kt;
     if (!(total > 0)) break;
 
@@ -176,7 +169,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       ++counts.diffuse;
     } else if (pick < wd + kr) {
       next = lobes.mirror;
-      beta *= total * lobes.throughput(s.n, s.dir, next, alpha, false);
+      beta *= total * lobes.throughput(s.n, s.dir, next, false);
       absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
       ++counts.reflection;
     } else {
@@ -185,7 +178,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       next = through ? lobes.refracted : lobes.mirror;
       if (through) absorption = s.entering ? std::max(0.0, f.absorption) : 0;
       else absorption = s.entering ? 0 : std::max(0.0, f.absorption);
-      beta *= total * lobes.throughput(s.n, s.dir, next, alpha, through);
+      beta *= total * lobes.throughput(s.n, s.dir, next, through);
       ++counts.refraction;
     }
     if (beta.isBlack()) break; // a rough lobe sent it into the surface

@@ -24,13 +24,13 @@ struct SpecularLobes {
   Vec3 refracted;   ///< the refracted direction, unless totalInternal
   bool totalInternal = false;
   bool rough = false;
+  double alpha = 0; ///< GGX alpha of a rough finish
 
   /// What a ray scattered into `next` carries, over the lobe's weight: 1
   /// for a smooth finish; for a rough one G2 / G1 (the microfacets that
   /// shadow it), 0 when `next` leaves on the wrong side of the surface
   /// (under it for a reflection, above it for a refraction).
-  double throughput(const Vec3 &n, const Vec3 &dir, const Vec3 &next, double alpha,
-                    bool transmitted) const {
+  double throughput(const Vec3 &n, const Vec3 &dir, const Vec3 &next, bool transmitted) const {
     if (!rough) return 1;
     const double cosOut = dot(next, n);
     if (transmitted ? cosOut >= 0 : cosOut <= 0) return 0;
@@ -51,7 +51,8 @@ inline SpecularLobes specularLobes(const Vec3 &dir, const Vec3 &n, const Finish 
   l.rough = f.roughness > 0 && (l.kr > 0 || l.kt > 0);
   if (l.rough) {
     const double u1 = sampler.next(), u2 = sampler.next();
-    l.facet = ggx::sampleVisibleNormal(n, -dir, std::max(ggx::kMinAlpha, f.roughness), u1, u2);
+    l.alpha = std::max(ggx::kMinAlpha, f.roughness);
+    l.facet = ggx::sampleVisibleNormal(n, -dir, l.alpha, u1, u2);
   }
   const double dm = dot(dir, l.facet);
   const double cosI = std::clamp(-dm, 0.0, 1.0);

@@ -132,7 +132,7 @@ double sampledAlbedo(const Vec3 &wo, double alpha, int samples) {
   double sum = 0;
   for (int k = 0; k < samples; ++k) {
     const SpecularLobes l = specularLobes(dir, n, f, true, false, 1.0, sampler);
-    sum += l.kr * l.throughput(n, dir, l.mirror, alpha, false);
+    sum += l.kr * l.throughput(n, dir, l.mirror, false);
   }
   return sum / samples;
 }
@@ -176,7 +176,7 @@ TEST(Ggx, SmoothLobesDrawNoSampleAndKeepTheMirror) {
   EXPECT_EQ(a.next(), b.next()) << "a smooth finish must not draw from the sampler";
   EXPECT_NEAR(l.mirror.x, dir.x, 1e-15);
   EXPECT_NEAR(l.mirror.z, -dir.z, 1e-15);
-  EXPECT_DOUBLE_EQ(l.throughput(n, dir, l.mirror, 0, false), 1);
+  EXPECT_DOUBLE_EQ(l.throughput(n, dir, l.mirror, false), 1);
 }
 
 TEST(Ggx, RoughRefractionLeavesThroughTheSurface) {
@@ -190,7 +190,7 @@ TEST(Ggx, RoughRefractionLeavesThroughTheSurface) {
   for (int k = 0; k < 20000; ++k) {
     const SpecularLobes l = specularLobes(dir, n, f, false, true, 1 / 1.5, sampler);
     ASSERT_FALSE(l.totalInternal); // entering glass: never
-    const double t = l.throughput(n, dir, l.refracted, 0.5, true);
+    const double t = l.throughput(n, dir, l.refracted, true);
     EXPECT_GE(t, 0);
     EXPECT_LE(t, 1);
     if (t > 0) {

@@ -109,6 +109,13 @@ public:
   /// sum over lights gives it (diffuse and highlight, shadow rays traced);
   /// black where the material is not lit.
   Color directLight(const Hit &hit, const Surface &s, Sampler &sampler, RayCounts &counts) const;
+  /// One sample of each of the scene's lights seen from `p`, for what the
+  /// shading equation does not light (the path tracer's rough lobes):
+  /// visit(target, colour) with the point the shadow ray aims at and the
+  /// whole light's colour (an area light's cell chosen uniformly, its
+  /// colour times the cell count); black outside a spot's cone.
+  template <class Visit> void forEachLightSample(const Vec3 &p, Sampler &sampler,
+                                                 Visit &&visit) const;
 
 private:
   /// Where a light sample lies as seen from a hit: the unit direction to

@@ -192,6 +192,22 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &
   return sum;
 }
 
+template <class Accel>
+template <class Visit>
+void Integrator<Accel>::forEachLightSample(const Vec3 &p, Sampler &sampler, Visit &&visit) const {
+  for (const LightSampler &light : lights_) {
+    std::visit(
+        [&](const auto &source) {
+          const int cells = source.sampleCount();
+          const int k = cells > 1 ? std::min(cells - 1, static_cast<int>(sampler.next() * cells))
+                                  : 0;
+          const LightSample sample = source.sample(k, p, sampler);
+          visit(sample.target, sample.color * static_cast<double>(cells));
+        },
+        light);
+  }
+}
+
 template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<Surface, kMaxTileRays> surface;
   std::array<Color, kMaxTileRays> lightSum;

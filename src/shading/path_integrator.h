@@ -1,10 +1,11 @@
 // Pipeline: shading. The path tracer of lua/README.md, "Light transport"
 // (SceneInfo.integrator = "path"): at each vertex the surface's emission,
 // the light of the scene's Light and SpotLight sampled as the shading
-// equation samples it, emitting surfaces sampled directly (emitters.h) and
-// weighted against the paths that find them by bouncing (multiple
-// importance sampling, power heuristic), then one scattering lobe chosen
-// by weight (Lambertian diffuse, mirror reflection, refraction with Beer
+// equation samples it (and through rough lobes, rough_lobes.h), emitting
+// surfaces sampled directly (emitters.h) and weighted against the paths
+// that find them by bouncing (multiple importance sampling, power
+// heuristic), then one scattering lobe chosen by weight (Lambertian
+// diffuse, reflection and refraction, smooth or GGX-rough, with Beer
 // absorption inside), until the path escapes to the background (a
 // constant environment), has made max_depth scattering events or is ended
 // by Russian roulette. Like Integrator, a template over the concrete
@@ -62,7 +63,7 @@ private:
   /// equation has them (so that max_depth = 1 is the Whitted image without
   /// ambient, reflection and refraction).
   Integrator<Accel> local_;
-  Emitters emitters_; ///< emitting surfaces, sampled from diffuse points
+  Emitters emitters_; ///< emitting surfaces, sampled from diffuse and rough points
   Color background_;
   int maxDepth_;
   double clamp_; ///< --clamp; 0: none

@@ -6,6 +6,7 @@
 #include "math/onb.h"
 #include "math/spawn.h"
 #include "shading/emitters.h"
+#include "shading/rough_lobes.h"
 #include "shading/specular_lobes.h"
 #include "shading/integrator_impl.h"
 #include "shading/path_integrator.h"
@@ -79,9 +80,10 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
   using Surface = typename Integrator<Accel>::Surface;
   Color radiance, beta(1, 1, 1); // beta: the path's throughput so far
   double absorption = 0;         // of the medium the current segment crosses (0: none)
-  // How the current segment was sampled: its density (solid angle) when
-  // from the diffuse lobe, which emitter sampling could also have drawn;
-  // 0 for the camera ray and the mirror and refracted rays.
+  // How the current segment was sampled: its density (solid angle, all
+  // the vertex's non-specular lobes together) when from a diffuse or
+  // rough lobe, which emitter sampling could also have drawn; 0 for the
+  // camera ray and smooth mirror and refracted rays.
   double scatterPdf = 0;
   Vec3 from;
   ++counts.paths;
@@ -114,39 +116,88 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     if (m.lit) radiance += beta * local_.directLight(hit, s, sampler, counts);
 
     // The lobes and their weights: Lambertian diffuse of albedo diffuse * P,
-    // mirror reflection and refraction (times F and 1 - F with fresnel).
+    // reflection and refraction (times F and 1 - F with fresnel).
     const Color albedo(std::max(0.0, s.pigment.r * f.diffuse),
                        std::max(0.0, s.pigment.g * f.diffuse),
                        std::max(0.0, s.pigment.b * f.diffuse));
     const double wd = (albedo.r + albedo.g + albedo.b) / 3;
-    // A rough finish draws its microfacet here, before the emitters are
-    // sampled: both strategies' densities below then use the same weights.
     const double eta = s.entering ? 1.0 / f.refractionIndex : f.refractionIndex;
     const SpecularLobes lobes =
         specularLobes(s.dir, s.n, f, m.reflects, m.refracts, eta, sampler);
-    const double kr = lobes.kr, kt = lobes.kt;
-    const double total = wd + kr + kt;
+    // Smooth lobes are chosen by what they carry about N; rough ones by a
+    // weight that does not depend on their microfacet (RoughLobes), so that
+    // the density of any direction is known for MIS.
+    const RoughLobes rough(f, m.reflects, m.refracts, eta);
+    const double ks = lobes.rough ? rough.selectionWeight() : lobes.kr + lobes.kt;
+    const double total = wd + ks;
     if (!(total > 0)) break;
+    const Vec3 wo = -s.dir;
+    // What the non-specular lobes scatter from wi towards the viewer (times
+    // |cos|), and the density with which choosing a lobe and sampling it
+    // draws wi.
+    struct Scatter {
+      Color fcos;
+      double pdf = 0;
+    };
+    auto scatterTowards = [&](const Vec3 &wi) {
+      Scatter sc;
+      const double c = dot(s.n, wi);
+      if (wd > 0 && c > 0) {
+        sc.fcos = albedo * (c / std::numbers::pi);
+        sc.pdf = wd / total * c / std::numbers::pi;
+      }
+      if (lobes.rough) {
+        const RoughLobes::Value v = rough.evaluate(s.n, wo, wi);
+        sc.fcos += Color(v.fcos, v.fcos, v.fcos);
+        sc.pdf += ks / total * v.pdf;
+      }
+      return sc;
+    };
+    // Light towards wi from a point `target` on a light: shadowed, and
+    // through an absorbing object when wi enters it.
+    auto visible = [&](const Vec3 &target, Ray &shadow) {
+      shadow = spawnRayTo(hit, target);
+      shadow.tMax = 1 - 1e-7; // stops short of the emitter's own surface
+      ++counts.shadow;
+      return !accel_.occluded(shadow);
+    };
+    auto insideAttenuation = [&](const Vec3 &wi, double distance) {
+      const bool into = dot(s.n, wi) < 0 && s.entering;
+      return into && f.absorption > 0 ? std::exp(-f.absorption * distance) : 1.0;
+    };
 
-    // Emitters sampled directly from the diffuse lobe (the others are
-    // perfectly specular: no other direction than their own reaches them).
-    if (wd > 0 && !emitters_.empty()) {
+    // The lights' light scattered by rough lobes (the shading equation above
+    // lit the diffuse lobe and the highlight). A Light's colour is its
+    // irradiance over pi, as a Lambertian lobe of albedo 1 sees it.
+    if (lobes.rough && m.lit) {
+      local_.forEachLightSample(hit.p, sampler, [&](const Vec3 &target, const Color &light) {
+        if (light.isBlack()) return;
+        const Vec3 toLight = target - hit.p;
+        const double d = length(toLight);
+        if (!(d > 0)) return;
+        const Vec3 wi = toLight / d;
+        const RoughLobes::Value v = rough.evaluate(s.n, wo, wi);
+        Ray shadow;
+        if (v.fcos > 0 && visible(target, shadow))
+          radiance += beta * light * (std::numbers::pi * v.fcos * insideAttenuation(wi, d));
+      });
+    }
+
+    // Emitters sampled directly from the diffuse and rough lobes (perfectly
+    // specular ones send no other direction than their own to them).
+    if ((wd > 0 || lobes.rough) && !emitters_.empty()) {
       const Emitters::Sample e = emitters_.sample(sampler);
       const Vec3 toLight = e.p - hit.p;
       const double d2 = dot(toLight, toLight), d = std::sqrt(d2);
       const Vec3 l = toLight / d;
-      const double cosSurface = dot(s.n, l), cosLight = -dot(e.n, l);
-      if (cosSurface > 0 && cosLight > 0 && e.pdfArea > 0 && d > 0) {
-        Ray shadow = spawnRayTo(hit, e.p);
-        shadow.tMax = 1 - 1e-7; // stops short of the emitter's own surface
-        ++counts.shadow;
-        if (!accel_.occluded(shadow)) {
-          const double lightPdf = e.pdfArea * d2 / cosLight;
-          const double scatter = wd / total * cosSurface / std::numbers::pi;
-          const double weight = path_detail::powerHeuristic(lightPdf, scatter);
-          radiance +=
-              beta * albedo * e.radiance * (cosSurface / std::numbers::pi * weight / lightPdf);
-        }
+      const double cosLight = -dot(e.n, l);
+      const Scatter sc = cosLight > 0 && e.pdfArea > 0 && d > 0 ? scatterTowards(l) : Scatter{};
+      Ray shadow;
+      if (!sc.fcos.isBlack() && visible(e.p, shadow)) {
+        const double lightPdf = e.pdfArea * d2 / cosLight;
+        const double weight = path_detail::powerHeuristic(lightPdf, sc.pdf);
+        radiance +=
+            beta * sc.fcos * e.radiance * (weight / lightPdf * insideAttenuation(l, d));
       }
     }
 
@@ -164,23 +215,28 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), cosTheta);
       beta = beta * albedo * (total / wd);
       absorption = 0;
-      scatterPdf = wd / total * cosTheta / std::numbers::pi;
-      from = hit.p;
+      scatterPdf = lobes.rough ? scatterTowards(next).pdf : wd / total * cosTheta / std::numbers::pi;
       ++counts.diffuse;
-    } else if (pick < wd + kr) {
-      next = lobes.mirror;
-      beta *= total * lobes.throughput(s.n, s.dir, next, false);
-      absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
-      ++counts.reflection;
     } else {
+      // Reflection or refraction: a smooth finish picks by the weights
+      // about N, a rough one by those about its microfacet (the throughput
+      // then carries their sum over the weight it was chosen by).
+      const double carried = lobes.kr + lobes.kt;
+      const bool reflect = lobes.rough ? (pick - wd) / ks * carried < lobes.kr
+                                       : pick < wd + lobes.kr;
       // Under total internal reflection the refraction weight follows the mirror.
-      const bool through = !lobes.totalInternal;
+      const bool through = !reflect && !lobes.totalInternal;
       next = through ? lobes.refracted : lobes.mirror;
       if (through) absorption = s.entering ? std::max(0.0, f.absorption) : 0;
-      else absorption = s.entering ? 0 : std::max(0.0, f.absorption);
-      beta *= total * lobes.throughput(s.n, s.dir, next, through);
-      ++counts.refraction;
+      else absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
+      const double weight = lobes.rough ? carried * total / ks
+                                        : total;
+      beta *= weight * lobes.throughput(s.n, s.dir, next, through);
+      if (lobes.rough) scatterPdf = scatterTowards(next).pdf;
+      if (reflect) ++counts.reflection;
+      else ++counts.refraction;
     }
+    from = hit.p;
     if (beta.isBlack()) break; // a rough lobe sent it into the surface
     if (vertex >= kRouletteFrom) {
       const double keep = std::min(1.0, beta.maxComponent());

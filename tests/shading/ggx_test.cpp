@@ -6,6 +6,7 @@
 // never returns more energy than it receives.
 #include "shading/ggx.h"
 #include "shading/specular_lobes.h"
+#include "shading/distribution_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -16,26 +17,12 @@
 namespace lray {
 namespace {
 
+using testing::chiSquareRatio;
+using testing::hemisphere;
 constexpr double kPi = std::numbers::pi;
 
 Vec3 direction(double theta, double phi = 0.3) {
   return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-}
-
-/// The integral of g over the hemisphere about +z by the midpoint rule in
-/// (cos theta, phi), dense near the pole where narrow lobes live.
-template <class F> double hemisphere(F g, int nu = 2000, int nphi = 256) {
-  double sum = 0;
-  for (int i = 0; i < nu; ++i) {
-    // u = cos theta = 1 - x^2 puts most cells near the pole: du = 2x dx.
-    const double x = (i + 0.5) / nu, cosT = 1 - x * x, sinT = std::sqrt(1 - cosT * cosT);
-    const double du = 2 * x / nu;
-    for (int j = 0; j < nphi; ++j) {
-      const double phi = 2 * kPi * (j + 0.5) / nphi;
-      sum += g(Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT)) * du * (2 * kPi / nphi);
-    }
-  }
-  return sum;
 }
 
 TEST(Ggx, ProjectedNormalsIntegrateToOne) {
@@ -55,31 +42,6 @@ TEST(Ggx, VisibleNormalDensityIntegratesToOne) {
           hemisphere([&](const Vec3 &m) { return ggx::visibleNormalPdf(wo, m, alpha); }), 1,
           3e-3);
     }
-}
-
-/// Pearson's chi-square of samples against expected counts over bins of
-/// (cos theta, phi); bins expected to hold fewer than 5 are pooled.
-/// Returns the statistic over its critical value at p = 1e-4
-/// (Wilson-Hilferty), so < 1 passes.
-double chiSquareRatio(const std::vector<double> &observed, const std::vector<double> &expected) {
-  double chi2 = 0, poolObs = 0, poolExp = 0;
-  int dof = -1;
-  for (size_t i = 0; i < observed.size(); ++i) {
-    if (expected[i] < 5) {
-      poolObs += observed[i];
-      poolExp += expected[i];
-      continue;
-    }
-    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-    ++dof;
-  }
-  if (poolExp > 0) {
-    chi2 += (poolObs - poolExp) * (poolObs - poolExp) / poolExp;
-    ++dof;
-  }
-  const double z = 3.719, k = dof; // the normal quantile of 1 - 1e-4
-  const double critical = k * std::pow(1 - 2 / (9 * k) + z * std::sqrt(2 / (9 * k)), 3);
-  return chi2 / critical;
 }
 
 TEST(Ggx, VisibleNormalSamplesFollowTheirDensity) {

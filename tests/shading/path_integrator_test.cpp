@@ -7,6 +7,8 @@
 #include "render/renderer.h"
 #include "shading/brute_force_accelerator.h"
 #include "shading/image_cache.h"
+#include "shading/rough_lobes.h"
+#include "math/onb.h"
 
 #include <gtest/gtest.h>
 
@@ -219,10 +221,13 @@ TEST(PathIntegrator, InsideAnEmittingBoxTheAlbedoSeriesSumsToMaxDepth) {
   }
 }
 
-/// Adds a small matte square of `albedo` at the origin facing +y, seen
-/// alone by the camera, renders the direct light on it (max_depth 1) and
-/// returns its mean value and that mean's standard error.
-std::pair<double, double> litSquare(Scene &s, double albedo) {
+/// Where litSquare's camera looks at its square from.
+const Vec3 kSquareViewer(0.5, 1, 0);
+
+/// Adds a small square of `finish` at the origin facing +y, seen alone by
+/// the camera from kSquareViewer, renders the direct light on it
+/// (max_depth 1) and returns its mean value and that mean's standard error.
+std::pair<double, double> litSquare(Scene &s, const Finish &finish, int samples = 16) {
   Entity square;
   square.shape = makeShape(ShapeKind::Mesh);
   auto mesh = std::make_shared<MeshData>();
@@ -232,13 +237,14 @@ std::pair<double, double> litSquare(Scene &s, double albedo) {
     mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
   square.mesh = mesh;
   square.worldFromObject = Transform::scale(0.01, 1, 0.01);
-  square.texture = addTexture(s, matte(albedo));
+  square.texture = addTexture(s, finish);
   s.entities.push_back(square);
   s.camera.fov = 0.5; // the square fills the view
   s.camera.aspect = 1;
-  s.camera.worldFromCamera = Transform::lookAt({0.5, 1, 0}, {0, 0, 0}, {0, 1, 0});
+  s.camera.worldFromCamera = Transform::lookAt(kSquareViewer, {0, 0, 0}, {0, 1, 0});
   constexpr int kSize = 8;
-  const Film film = render(s, settings(kSize, 16, IntegratorKind::Path, 1), BackendKind::Embree);
+  const Film film =
+      render(s, settings(kSize, samples, IntegratorKind::Path, 1), BackendKind::Embree);
   double sum = 0, squares = 0;
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
@@ -263,7 +269,7 @@ TEST(PathIntegrator, ASphericalEmitterLightsAPointAsItsSolidAngleSays) {
             Transform::translate({0, d, 0}) * Transform::rotate({1, 1, 0}, 30) *
                 Transform::scale(R, R, R),
             addTexture(s, lamp));
-  const auto [mean, standardError] = litSquare(s, albedo);
+  const auto [mean, standardError] = litSquare(s, matte(albedo));
   EXPECT_NEAR(mean, albedo * L * (R / d) * (R / d), 4 * standardError + 1e-3);
   EXPECT_LT(standardError, 0.005);
 }
@@ -283,10 +289,89 @@ TEST(PathIntegrator, CylinderAndConeEmittersLightAPointAsTheirBaseDiskSays) {
               Transform::translate({0, d, 0}) * Transform::rotate({0, 1, 0}, 40) *
                   Transform::scale(R, 0.4, R),
               addTexture(s, lamp));
-    const auto [mean, standardError] = litSquare(s, albedo);
+    const auto [mean, standardError] = litSquare(s, matte(albedo));
     EXPECT_NEAR(mean, albedo * L * R * R / (d * d + R * R), 4 * standardError + 1e-3);
     EXPECT_LT(standardError, 0.01);
   }
+}
+
+/// A diffuse and rough square's finish (reflection alone, no Fresnel).
+Finish glossy(double roughness) {
+  Finish f = matte(0.3);
+  f.reflection = 0.7;
+  f.roughness = roughness;
+  return f;
+}
+
+/// What `finish` on litSquare's square sends its viewer of the light of a
+/// sphere of radius R, radiance L, centred at `centre`: the lobes' fcos
+/// integrated over the sphere's cone of directions by quadrature.
+double glossyUnderSphere(const Finish &finish, const Vec3 &centre, double R, double L) {
+  const Vec3 n(0, 1, 0), wo = normalize(kSquareViewer);
+  const RoughLobes rough(finish, true, false, 1.0);
+  const double d = length(centre), cosMax = std::sqrt(1 - R * R / (d * d));
+  Vec3 t, b;
+  orthonormalBasis(centre / d, t, b);
+  constexpr int kU = 600, kPhi = 600;
+  double sum = 0;
+  for (int i = 0; i < kU; ++i) {
+    const double c = cosMax + (1 - cosMax) * (i + 0.5) / kU, r = std::sqrt(1 - c * c);
+    for (int j = 0; j < kPhi; ++j) {
+      const double phi = 2 * std::numbers::pi * (j + 0.5) / kPhi;
+      const Vec3 wi = t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + centre / d * c;
+      const double diffuse = finish.diffuse * std::max(0.0, dot(n, wi)) / std::numbers::pi;
+      sum += (diffuse + rough.evaluate(n, wo, wi).fcos) * (1 - cosMax) / kU * 2 *
+             std::numbers::pi / kPhi;
+    }
+  }
+  return sum * L;
+}
+
+TEST(PathIntegrator, EmittersLightRoughLobesWeightedByMisToTheirIntegral) {
+  // A rough reflector sees an emitting sphere in its mirror direction:
+  // small and far (emitter sampling finds it best), then large and near
+  // under a narrower lobe (sampling the lobe does). Both strategies count,
+  // weighted by MIS: unless the weights sum to one where both can find a
+  // point, the mean misses the integral of the lobes over the sphere.
+  const Vec3 mirror = normalize(Vec3(-kSquareViewer.x, kSquareViewer.y, 0));
+  struct Lamp {
+    double roughness, R, distance;
+  };
+  for (const Lamp lamp : {Lamp{0.2, 0.15, 3}, Lamp{0.05, 1.1, 1.6}}) {
+    SCOPED_TRACE(lamp.R);
+    Scene s;
+    const double L = 5;
+    Finish emit = matte(0);
+    emit.emission = {L, L, L};
+    const Vec3 centre = mirror * lamp.distance;
+    addEntity(s, ShapeKind::Sphere, Transform::translate(centre) *
+                                        Transform::scale(lamp.R, lamp.R, lamp.R),
+              addTexture(s, emit));
+    const Finish f = glossy(lamp.roughness);
+    const auto [mean, standardError] = litSquare(s, f, 64);
+    const double expected = glossyUnderSphere(f, centre, lamp.R, L);
+    EXPECT_NEAR(mean, expected, 4 * standardError + 5e-4 * expected);
+    EXPECT_LT(standardError, 3e-3 * expected);
+  }
+}
+
+TEST(PathIntegrator, LightsAreSeenInRoughLobes) {
+  // A point Light of colour Lc gives irradiance pi Lc cos: the rough lobe
+  // adds pi Lc fcos to the shading equation's diffuse Lc cos (no
+  // highlight). The light is the only sample: the image is exact.
+  Scene s;
+  const Vec3 toLight = normalize(Vec3(-0.45, 1, 0.1));
+  Light light;
+  light.color = {0.8, 0.6, 0.4};
+  light.worldFromLight = Transform::translate(toLight * 4);
+  s.lights.push_back(light);
+  const Finish f = glossy(0.3);
+  const auto [mean, standardError] = litSquare(s, f);
+  const RoughLobes rough(f, true, false, 1.0);
+  const double fcos = rough.evaluate({0, 1, 0}, normalize(kSquareViewer), toLight).fcos;
+  EXPECT_GT(fcos, 0.3);
+  EXPECT_NEAR(mean, 0.8 * (f.diffuse * toLight.y + std::numbers::pi * fcos), 2e-3);
+  EXPECT_LT(standardError, 2e-3);
 }
 
 /// A unit sphere of `finish` at the origin under a constant sky, seen from

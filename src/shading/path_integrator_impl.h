@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace lray {
@@ -70,6 +71,16 @@ namespace path_detail {
 inline double powerHeuristic(double a, double b) {
   const double a2 = a * a, b2 = b * b;
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0;
+}
+
+/// The share of a shadow ray of length `length` ending at `target`, a point
+/// on a surface, that is left out at its end: 1e-4 (pbrt-v3's shadow
+/// epsilon), or more where single precision's error at the target's
+/// coordinates is larger.
+inline double surfaceMargin(const Vec3 &target, double length) {
+  const double largest = std::max({std::fabs(target.x), std::fabs(target.y), std::fabs(target.z)});
+  const double share = 64 * std::numeric_limits<float>::epsilon() * largest / length;
+  return std::min(0.5, std::max(1e-4, share));
 }
 
 } // namespace path_detail
@@ -155,9 +166,12 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     };
     // Light towards wi from a point `target` on a light: shadowed, and
     // through an absorbing object when wi enters it.
-    auto visible = [&](const Vec3 &target, Ray &shadow) {
-      shadow = spawnRayTo(hit, target);
-      shadow.tMax = 1 - 1e-7; // stops short of the emitter's own surface
+    auto visible = [&](const Vec3 &target, bool onSurface) {
+      Ray shadow = spawnRayTo(hit, target);
+      // A point on an emitter's surface: stop short of it by more than the
+      // error of a single-precision test there (Embree's triangles), else
+      // the emitter shadows itself in patterns.
+      if (onSurface) shadow.tMax = 1 - path_detail::surfaceMargin(target, length(shadow.d));
       ++counts.shadow;
       return !accel_.occluded(shadow);
     };
@@ -177,8 +191,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
         if (!(d > 0)) return;
         const Vec3 wi = toLight / d;
         const RoughLobes::Value v = rough.evaluate(s.n, wo, wi);
-        Ray shadow;
-        if (v.fcos > 0 && visible(target, shadow))
+        if (v.fcos > 0 && visible(target, false))
           radiance += beta * light * (std::numbers::pi * v.fcos * insideAttenuation(wi, d));
       });
     }
@@ -192,8 +205,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       const Vec3 l = toLight / d;
       const double cosLight = -dot(e.n, l);
       const Scatter sc = cosLight > 0 && e.pdfArea > 0 && d > 0 ? scatterTowards(l) : Scatter{};
-      Ray shadow;
-      if (!sc.fcos.isBlack() && visible(e.p, shadow)) {
+      if (!sc.fcos.isBlack() && visible(e.p, true)) {
         const double lightPdf = e.pdfArea * d2 / cosLight;
         const double weight = path_detail::powerHeuristic(lightPdf, sc.pdf);
         radiance +=

@@ -183,7 +183,8 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     // The lights' light scattered by rough lobes (the shading equation above
     // lit the diffuse lobe and the highlight). A Light's colour is its
     // irradiance over pi, as a Lambertian lobe of albedo 1 sees it.
-    if (lobes.rough && m.lit) {
+    if (lobes.rough) { // whatever m.lit says: that is about diffuse and highlight
+
       local_.forEachLightSample(hit.p, sampler, [&](const Vec3 &target, const Color &light) {
         if (light.isBlack()) return;
         const Vec3 toLight = target - hit.p;

@@ -359,20 +359,25 @@ TEST(PathIntegrator, EmittersLightRoughLobesWeightedByMisToTheirIntegral) {
 TEST(PathIntegrator, LightsAreSeenInRoughLobes) {
   // A point Light of colour Lc gives irradiance pi Lc cos: the rough lobe
   // adds pi Lc fcos to the shading equation's diffuse Lc cos (no
-  // highlight). The light is the only sample: the image is exact.
-  Scene s;
+  // highlight), also where there is no diffuse lobe at all. The light is
+  // the only sample: the image is exact.
   const Vec3 toLight = normalize(Vec3(-0.45, 1, 0.1));
-  Light light;
-  light.color = {0.8, 0.6, 0.4};
-  light.worldFromLight = Transform::translate(toLight * 4);
-  s.lights.push_back(light);
-  const Finish f = glossy(0.3);
-  const auto [mean, standardError] = litSquare(s, f);
-  const RoughLobes rough(f, true, false, 1.0);
-  const double fcos = rough.evaluate({0, 1, 0}, normalize(kSquareViewer), toLight).fcos;
-  EXPECT_GT(fcos, 0.3);
-  EXPECT_NEAR(mean, 0.8 * (f.diffuse * toLight.y + std::numbers::pi * fcos), 2e-3);
-  EXPECT_LT(standardError, 2e-3);
+  for (double diffuse : {0.3, 0.0}) {
+    SCOPED_TRACE(diffuse);
+    Scene s;
+    Light light;
+    light.color = {0.8, 0.6, 0.4};
+    light.worldFromLight = Transform::translate(toLight * 4);
+    s.lights.push_back(light);
+    Finish f = glossy(0.3);
+    f.diffuse = diffuse;
+    const auto [mean, standardError] = litSquare(s, f);
+    const RoughLobes rough(f, true, false, 1.0);
+    const double fcos = rough.evaluate({0, 1, 0}, normalize(kSquareViewer), toLight).fcos;
+    EXPECT_GT(fcos, 0.3);
+    EXPECT_NEAR(mean, 0.8 * (f.diffuse * toLight.y + std::numbers::pi * fcos), 2e-3);
+    EXPECT_LT(standardError, 2e-3);
+  }
 }
 
 /// A unit sphere of `finish` at the origin under a constant sky, seen from

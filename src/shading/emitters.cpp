@@ -48,6 +48,14 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
                                               (std::get<Cone>(e.shape).open ? 0 : 1))});
       power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
       break;
+    case ShapeKind::Torus: { // a ring torus (major > minor): area 4 pi^2 R r
+      const Torus &t = std::get<Torus>(e.shape);
+      if (!(t.major > t.minor && t.minor > 0)) break; // a spindle torus: not sampled
+      entries_.push_back({i, 0, Kind::Torus, 0, 4 * std::numbers::pi * std::numbers::pi *
+                                                    t.major * t.minor});
+      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
+      break;
+    }
     case ShapeKind::Mesh:
       for (uint32_t t = 0; t < e.mesh->triangles.size(); ++t) {
         const uint32_t *v = e.mesh->triangles[t].v;
@@ -121,6 +129,8 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
     pObject = nObject = Vec3(r * std::cos(phi), r * std::sin(phi), z);
   } else if (entry.kind == Kind::Cylinder || entry.kind == Kind::Cone) {
     sampleRound(entry, u, v, pObject, nObject);
+  } else if (entry.kind == Kind::Torus) {
+    sampleTorus(std::get<Torus>(e.shape), u, v, pObject, nObject);
   } else { // Cube: a face (of six, equally likely), then a point on it
     const int face = std::min(5, static_cast<int>(u * 6));
     const double a = u * 6 - face - 0.5, b = v - 0.5;
@@ -143,6 +153,31 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
   s.n = unitVector(affineNormal(e.worldFromObject.inverseMatrix(), nObject));
   s.pdfArea = entry.probability * worldAreaFactor(e, s.n) / entry.area;
   return s;
+}
+
+void Emitters::sampleTorus(const Torus &t, double u, double v, Vec3 &p, Vec3 &n) {
+  // dA = r (R + r cos b) da db: a uniform around the ring, b by the inverse
+  // of its distribution F(b) = (R b + r sin b) / (2 pi R), found by Newton's
+  // method kept inside a bracket (F is increasing: R > r).
+  const double R = t.major, r = t.minor, target = 2 * std::numbers::pi * R * v;
+  double lo = 0, hi = 2 * std::numbers::pi, b = 2 * std::numbers::pi * v;
+  for (int k = 0; k < 60; ++k) {
+    const double f = R * b + r * std::sin(b) - target;
+    if (f > 0) hi = b;
+    else lo = b;
+    const double step = f / (R + r * std::cos(b));
+    double next = b - step;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::fabs(next - b) < 1e-14) {
+      b = next;
+      break;
+    }
+    b = next;
+  }
+  const double a = 2 * std::numbers::pi * u;
+  const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b);
+  n = {cb * ca, sb, cb * sa};
+  p = {(R + r * cb) * ca, r * sb, (R + r * cb) * sa};
 }
 
 void Emitters::sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const {

@@ -1,11 +1,12 @@
 // Pipeline: shading. The scene's emitting surfaces as light sources the
 // path tracer samples directly (next-event estimation, lua/README.md,
-// "Light transport"): a Sphere, Cube or Mesh entity whose finish emits.
-// One is chosen by its power (emission's mean times its area), then a
-// point on it uniformly by its object-space area (exactly by world area for
-// triangles). pdfArea gives the same density for a point a path found by
-// itself, for multiple importance sampling. Emitting CSG leaves and tori
-// are not sampled: paths find them by bouncing.
+// "Light transport"): a Sphere, Cube, Cylinder, Cone, ring Torus or Mesh
+// entity whose finish emits. One is chosen by its power (emission's mean
+// times its area), then a point on it uniformly by its object-space area
+// (exactly by world area for triangles). pdfArea gives the same density for
+// a point a path found by itself, for multiple importance sampling.
+// Emitting CSG leaves and spindle tori are not sampled: paths find them by
+// bouncing.
 #pragma once
 
 #include "math/color.h"
@@ -39,7 +40,7 @@ public:
   double pdfArea(const Hit &hit) const;
 
 private:
-  enum class Kind : uint8_t { Sphere, Cube, Cylinder, Cone, Triangle };
+  enum class Kind : uint8_t { Sphere, Cube, Cylinder, Cone, Torus, Triangle };
   struct Entry {
     uint32_t entity;
     uint32_t triangle; ///< Triangle: its index in the mesh
@@ -50,6 +51,8 @@ private:
   /// A point and its outward object-space normal on a cylinder or cone,
   /// uniform by object-space area, from two uniform numbers.
   void sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const;
+  /// The same on a ring torus (major > minor).
+  static void sampleTorus(const Torus &t, double u, double v, Vec3 &p, Vec3 &n);
   /// Object-space area over world area at a point of world normal n
   /// (unit) on an affinely placed surface.
   double worldAreaFactor(const Entity &e, const Vec3 &n) const;

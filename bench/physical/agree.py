@@ -29,6 +29,18 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 SCENES = {"cornell": (128, 128), "glossy": (160, 120), "glass": (160, 120), "mesh": (160, 120),
           "mixed": (160, 120)}
+# Scenes of the gallery (scenes/) with a twin here, rendered on request.
+GALLERY = {"cornell_gi": (400, 400)}
+
+
+def lua_path(name):
+    if name in GALLERY:
+        return os.path.join(ROOT, "scenes", name + ".lua")
+    return os.path.join(HERE, "scenes", name + ".lua")
+
+
+def size(name):
+    return GALLERY.get(name) or SCENES[name]
 
 
 def read_exr(path):
@@ -38,15 +50,16 @@ def read_exr(path):
 
 
 def render_lray(name, out, spp, seed, threads, backend="embree", extra=()):
-    """spp must be a square: LRay takes n x n samples per pixel."""
-    w, h = SCENES[name]
-    n = int(round(math.sqrt(spp)))
+    """spp must be a square (LRay takes n x n samples per pixel), or None
+    for the sampling `extra` asks for (adaptive)."""
+    w, h = size(name)
+    samples = ["-s", str(int(round(math.sqrt(spp))))] if spp else []
     folder = out + ".d"
     os.makedirs(folder, exist_ok=True)
     stats = os.path.join(folder, "stats.json")
     start = time.perf_counter()
-    subprocess.run([os.path.join(ROOT, "build", "lray"), os.path.join(HERE, "scenes", name + ".lua"),
-                    folder, "-q", "-f", "exr", "-s", str(n), "--seed", str(seed), "-w", str(w),
+    subprocess.run([os.path.join(ROOT, "build", "lray"), lua_path(name),
+                    folder, "-q", "-f", "exr", *samples, "--seed", str(seed), "-w", str(w),
                     "-H", str(h), "-t", str(threads), "--backend", backend, "--stats", stats,
                     *extra], check=True)
     wall = time.perf_counter() - start
@@ -57,7 +70,7 @@ def render_lray(name, out, spp, seed, threads, backend="embree", extra=()):
 
 
 def render_peer(peer, name, out, spp, seed, threads, extra=()):
-    w, h = SCENES[name]
+    w, h = size(name)
     start = time.perf_counter()
     p = subprocess.run([sys.executable, os.path.join(HERE, peer + "_twin.py"), name, out,
                         "--width", str(w), "--height", str(h), "--spp", str(spp),

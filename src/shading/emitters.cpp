@@ -1,6 +1,8 @@
 // Pipeline: shading. See emitters.h.
 #include "shading/emitters.h"
 
+#include "geometry/csg_ray.h"
+#include "geometry/csg_tree.h"
 #include "geometry/shape.h"
 #include "math/affine.h"
 
@@ -20,56 +22,65 @@ double areaScale(const Transform &t) { return std::pow(std::fabs(t.matrix().det3
 
 } // namespace
 
+std::optional<std::pair<Emitters::Kind, double>> Emitters::solidKind(const Entity &e) {
+  constexpr double pi = std::numbers::pi;
+  switch (e.kind()) {
+  case ShapeKind::Sphere:
+    return std::pair{Kind::Sphere, 4 * pi};
+  case ShapeKind::Cube:
+    return std::pair{Kind::Cube, 6.0};
+  case ShapeKind::Cylinder: // the side (2 pi) and two caps (pi each) unless open
+    return std::pair{Kind::Cylinder, pi * (std::get<Cylinder>(e.shape).open ? 2 : 4)};
+  case ShapeKind::Cone: // the side (pi sqrt 2) and the base (pi) unless open
+    return std::pair{Kind::Cone, pi * (std::sqrt(2.0) + (std::get<Cone>(e.shape).open ? 0 : 1))};
+  case ShapeKind::Torus: { // a ring torus (major > minor): area 4 pi^2 R r
+    const Torus &t = std::get<Torus>(e.shape);
+    if (!(t.major > t.minor && t.minor > 0)) return std::nullopt; // spindle: not sampled
+    return std::pair{Kind::Torus, 4 * pi * pi * t.major * t.minor};
+  }
+  default:
+    return std::nullopt; // a Plane (no area), a Mesh (by triangles), a CSG (by leaves)
+  }
+}
+
 Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entities.size(), -1) {
   std::vector<double> power;
+  auto emissionOf = [&](const Entity &e) -> const Color * {
+    if (e.texture >= scene.textures.size()) return nullptr;
+    const Color &emission = scene.textures[e.texture].finish.emission;
+    return emission.isBlack() ? nullptr : &emission;
+  };
+  auto addSolid = [&](const Entity &e, uint32_t entity, uint32_t part, bool csgLeaf,
+                      const Color &emission) {
+    if (const auto kind = solidKind(e)) {
+      entries_.push_back({entity, part, kind->first, csgLeaf, 0, kind->second});
+      power.push_back(mean(emission) * kind->second * areaScale(e.worldFromObject));
+    }
+  };
   for (uint32_t i = 0; i < scene.entities.size(); ++i) {
     const Entity &e = scene.entities[i];
-    if (e.texture >= scene.textures.size()) continue;
-    const Color &emission = scene.textures[e.texture].finish.emission;
-    if (emission.isBlack()) continue;
     const size_t first = entries_.size();
-    switch (e.kind()) {
-    case ShapeKind::Sphere:
-      entries_.push_back({i, 0, Kind::Sphere, 0, 4 * std::numbers::pi});
-      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
-      break;
-    case ShapeKind::Cube:
-      entries_.push_back({i, 0, Kind::Cube, 0, 6});
-      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
-      break;
-    case ShapeKind::Cylinder: // the side (2 pi) and two caps (pi each) unless open
-      entries_.push_back({i, 0, Kind::Cylinder, 0,
-                          std::numbers::pi * (std::get<Cylinder>(e.shape).open ? 2 : 4)});
-      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
-      break;
-    case ShapeKind::Cone: // the side (pi sqrt 2) and the base (pi) unless open
-      entries_.push_back({i, 0, Kind::Cone, 0,
-                          std::numbers::pi * (std::sqrt(2.0) +
-                                              (std::get<Cone>(e.shape).open ? 0 : 1))});
-      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
-      break;
-    case ShapeKind::Torus: { // a ring torus (major > minor): area 4 pi^2 R r
-      const Torus &t = std::get<Torus>(e.shape);
-      if (!(t.major > t.minor && t.minor > 0)) break; // a spindle torus: not sampled
-      entries_.push_back({i, 0, Kind::Torus, 0, 4 * std::numbers::pi * std::numbers::pi *
-                                                    t.major * t.minor});
-      power.push_back(mean(emission) * entries_.back().area * areaScale(e.worldFromObject));
-      break;
-    }
-    case ShapeKind::Mesh:
-      for (uint32_t t = 0; t < e.mesh->triangles.size(); ++t) {
-        const uint32_t *v = e.mesh->triangles[t].v;
-        const Vec3 a = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[0]]));
-        const Vec3 b = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[1]]));
-        const Vec3 c = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[2]]));
-        const double area = 0.5 * length(cross(b - a, c - a));
-        if (!(area > 0)) continue; // a degenerate triangle: nothing to sample
-        entries_.push_back({i, t, Kind::Triangle, 0, area});
-        power.push_back(mean(emission) * area);
+    if (e.kind() == ShapeKind::Csg) {
+      // Each leaf emits with its own texture's emission.
+      if (const auto &tree = std::get<Csg>(e.shape).tree)
+        for (uint32_t k = 0; k < tree->leaves.size(); ++k)
+          if (const Color *emission = emissionOf(tree->leaves[k].entity))
+            addSolid(tree->leaves[k].entity, i, k, true, *emission);
+    } else if (const Color *emission = emissionOf(e)) {
+      if (e.kind() != ShapeKind::Mesh) {
+        addSolid(e, i, 0, false, *emission);
+      } else {
+        for (uint32_t t = 0; t < e.mesh->triangles.size(); ++t) {
+          const uint32_t *v = e.mesh->triangles[t].v;
+          const Vec3 a = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[0]]));
+          const Vec3 b = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[1]]));
+          const Vec3 c = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[2]]));
+          const double area = 0.5 * length(cross(b - a, c - a));
+          if (!(area > 0)) continue; // a degenerate triangle: nothing to sample
+          entries_.push_back({i, t, Kind::Triangle, false, 0, area});
+          power.push_back(mean(*emission) * area);
+        }
       }
-      break;
-    default:
-      break; // not sampled (emitters.h)
     }
     if (entries_.size() > first) firstEntry_[i] = static_cast<int64_t>(first);
   }
@@ -101,13 +112,18 @@ double Emitters::worldAreaFactor(const Entity &e, const Vec3 &n) const {
   return length(mtn) / std::fabs(e.worldFromObject.matrix().det3());
 }
 
+const Entity &Emitters::shapeOf(const Entry &entry) const {
+  const Entity &e = scene_.entities[entry.entity];
+  return entry.csgLeaf ? std::get<Csg>(e.shape).tree->leaves[entry.part].entity : e;
+}
+
 Emitters::Sample Emitters::sample(Sampler &sampler) const {
   const double pick = sampler.next(), u = sampler.next(), v = sampler.next();
   const size_t k = std::min<size_t>(std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) -
                                         cumulative_.begin(),
                                     entries_.size() - 1);
   const Entry &entry = entries_[k];
-  const Entity &e = scene_.entities[entry.entity];
+  const Entity &e = shapeOf(entry);
   Sample s;
   s.radiance = scene_.textures[e.texture].finish.emission;
   if (entry.kind == Kind::Triangle) {
@@ -116,7 +132,7 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
     const double b1 = r * (1 - v), b2 = r * v;
     Hit hit;
     const Ray probe{Vec3(), Vec3(0, 0, 1), 0, 1};
-    fillTriangleHit(e, entry.entity, entry.triangle, 0, b1, b2, probe, Vec3(), hit);
+    fillTriangleHit(e, entry.entity, entry.part, 0, b1, b2, probe, Vec3(), hit);
     s.p = hit.p;
     s.n = hit.ng;
     s.pdfArea = entry.probability / entry.area;
@@ -152,7 +168,23 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
   s.p = affinePoint(e.worldFromObject.matrix(), pObject);
   s.n = unitVector(affineNormal(e.worldFromObject.inverseMatrix(), nObject));
   s.pdfArea = entry.probability * worldAreaFactor(e, s.n) / entry.area;
+  if (entry.csgLeaf && !onCsgSurface(entry, s.p, s.n)) s.pdfArea = 0;
   return s;
+}
+
+bool Emitters::onCsgSurface(const Entry &entry, const Vec3 &p, Vec3 &n) const {
+  // A short ray through the point across the leaf's surface: the point is
+  // the result's where the CSG code (the operators' rules, coincident
+  // surfaces included) finds this leaf's surface there first.
+  const Entity &e = scene_.entities[entry.entity];
+  const double scale = std::max({1.0, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  const double delta = 1e-7 * scale;
+  const Ray probe{p + n * delta, -n, 0, 2 * delta};
+  Hit hit;
+  if (!intersectCsg(std::get<Csg>(e.shape), entry.entity, probe, hit)) return false;
+  if (hit.primitive != entry.part || std::fabs(hit.t - delta) > 0.5 * delta) return false;
+  n = hit.ng; // out of the result (reversed on a subtracted leaf)
+  return true;
 }
 
 void Emitters::sampleTorus(const Torus &t, double u, double v, Vec3 &p, Vec3 &n) {
@@ -213,20 +245,20 @@ void Emitters::sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3
 
 double Emitters::pdfArea(const Hit &hit) const {
   if (hit.entity >= firstEntry_.size() || firstEntry_[hit.entity] < 0) return 0;
-  const Entity &e = scene_.entities[hit.entity];
-  const Entry *entry = &entries_[static_cast<size_t>(firstEntry_[hit.entity])];
-  if (entry->kind == Kind::Triangle) {
-    // The entity's triangles are consecutive entries, in order; degenerate
-    // ones were left out, so look for this one from its own index down.
-    const size_t first = static_cast<size_t>(firstEntry_[hit.entity]);
+  const size_t first = static_cast<size_t>(firstEntry_[hit.entity]);
+  const Entry *entry = &entries_[first];
+  if (entry->kind == Kind::Triangle || entry->csgLeaf) {
+    // The entity's triangles (leaves) are consecutive entries, in order;
+    // those that do not emit were left out, so look for this one from its
+    // own index down.
     size_t k = std::min(first + hit.primitive, entries_.size() - 1);
-    while (k > first && (entries_[k].entity != hit.entity || entries_[k].triangle > hit.primitive))
+    while (k > first && (entries_[k].entity != hit.entity || entries_[k].part > hit.primitive))
       --k;
     entry = &entries_[k];
-    if (entry->entity != hit.entity || entry->triangle != hit.primitive) return 0;
-    return entry->probability / entry->area;
+    if (entry->entity != hit.entity || entry->part != hit.primitive) return 0;
+    if (entry->kind == Kind::Triangle) return entry->probability / entry->area;
   }
-  return entry->probability * worldAreaFactor(e, hit.ng) / entry->area;
+  return entry->probability * worldAreaFactor(shapeOf(*entry), hit.ng) / entry->area;
 }
 
 } // namespace lray

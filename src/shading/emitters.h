@@ -1,11 +1,13 @@
 // Pipeline: shading. The scene's emitting surfaces as light sources the
 // path tracer samples directly (next-event estimation, lua/README.md,
 // "Light transport"): a Sphere, Cube, Cylinder, Cone, ring Torus or Mesh
-// entity whose finish emits. One is chosen by its power (emission's mean
-// times its area), then a point on it uniformly by its object-space area
-// (exactly by world area for triangles). pdfArea gives the same density for
-// a point a path found by itself, for multiple importance sampling.
-// Emitting CSG leaves and spindle tori are not sampled: paths find them by
+// entity whose finish emits, and the emitting leaves of those kinds of a
+// CSG entity. One is chosen by its power (emission's mean times its area),
+// then a point on it uniformly by its object-space area (exactly by world
+// area for triangles). A CSG leaf's point counts only where it is a surface
+// of the result (the others are drawn and rejected: density 0). pdfArea
+// gives the same density for a point a path found by itself, for multiple
+// importance sampling. Spindle tori are not sampled: paths find them by
 // bouncing.
 #pragma once
 
@@ -16,6 +18,8 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace lray {
@@ -32,7 +36,8 @@ public:
     Color radiance; ///< the finish's emission
     double pdfArea; ///< density per unit world area, the emitter's choice included
   };
-  /// A point on one of the emitters (three numbers of `sampler`).
+  /// A point on one of the emitters (three numbers of `sampler`); pdfArea
+  /// is 0 for a point of a CSG leaf that the result does not show.
   Sample sample(Sampler &sampler) const;
 
   /// The density per unit world area with which sample() gives the point
@@ -43,11 +48,20 @@ private:
   enum class Kind : uint8_t { Sphere, Cube, Cylinder, Cone, Torus, Triangle };
   struct Entry {
     uint32_t entity;
-    uint32_t triangle; ///< Triangle: its index in the mesh
+    uint32_t part; ///< Triangle: its index in the mesh; a CSG leaf: its index in the tree
     Kind kind;
+    bool csgLeaf;       ///< a leaf of the CSG entity `entity`, placed by its own transform
     double probability; ///< of choosing this entry
     double area;        ///< Triangle: world area; else object-space area
   };
+  /// The entity whose shape and placement an entry samples: the entity, or
+  /// the CSG leaf's.
+  const Entity &shapeOf(const Entry &entry) const;
+  /// An entry for an analytic solid (kind and object-space area), or none.
+  static std::optional<std::pair<Kind, double>> solidKind(const Entity &e);
+  /// Whether a point of CSG leaf `entry` (world p, normal n out of the
+  /// leaf's solid) is a surface of the result; fills the result's normal.
+  bool onCsgSurface(const Entry &entry, const Vec3 &p, Vec3 &n) const;
   /// A point and its outward object-space normal on a cylinder or cone,
   /// uniform by object-space area, from two uniform numbers.
   void sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const;

@@ -5,6 +5,7 @@
 // of its albedo to max_depth, and every backend renders the same frame.
 #include "render/backends.h"
 #include "render/renderer.h"
+#include "geometry/csg_test_trees.h"
 #include "shading/brute_force_accelerator.h"
 #include "shading/image_cache.h"
 #include "shading/rough_lobes.h"
@@ -330,6 +331,34 @@ TEST(PathIntegrator, ATorusEmitterLightsAPointAsItsSurfaceIntegralSays) {
   const double expected = albedo / std::numbers::pi * irradiance;
   EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected);
   EXPECT_LT(standardError, 5e-3 * expected);
+}
+
+TEST(PathIntegrator, CsgEmittersAreSampledWhereTheResultShowsThem) {
+  // An emitting sphere (radius R, L1 = 5) minus a cube whose top face halves
+  // it, the cube's leaf emitting L2 = 3: the result is the upper half-ball,
+  // closed below by a disk of the cube's face that faces down at height d.
+  // From the square below only the disk is seen: albedo L2 R^2 / (d^2 +
+  // R^2). Points drawn on the sphere's lower half or on the cube's other
+  // faces are not the result's surface and must count nothing (else the
+  // removed half of the sphere and the cube's bottom would light it).
+  Scene s;
+  const double R = 0.5, d = 1.5, albedo = 0.7;
+  Finish sphereLamp = matte(0), cubeLamp = matte(0);
+  sphereLamp.emission = {5, 5, 5};
+  cubeLamp.emission = {3, 3, 3};
+  test::CsgSpec sphere = test::leafSpec(ShapeKind::Sphere, Transform::translate({0, d, 0}) *
+                                                               Transform::scale(R, R, R));
+  sphere.leaf.texture = addTexture(s, sphereLamp);
+  test::CsgSpec cube = test::leafSpec(ShapeKind::Cube, Transform::translate({0, d - 1, 0}) *
+                                                           Transform::scale(2, 2, 2));
+  cube.leaf.texture = addTexture(s, cubeLamp);
+  Entity csg = test::csgEntity(test::opSpec(CsgOp::Difference, {sphere, cube}));
+  csg.texture = sphere.leaf.texture;
+  s.entities.push_back(csg);
+  const auto [mean, standardError] = litSquare(s, matte(albedo), 32);
+  const double expected = albedo * 3 * R * R / (d * d + R * R);
+  EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected);
+  EXPECT_LT(standardError, 0.02 * expected); // most points drawn are rejected (the cube's)
 }
 
 /// A diffuse and rough square's finish (reflection alone, no Fresnel).

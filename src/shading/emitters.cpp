@@ -5,6 +5,7 @@
 #include "geometry/csg_tree.h"
 #include "geometry/shape.h"
 #include "math/affine.h"
+#include "math/onb.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,30 @@ double mean(const Color &c) { return (c.r + c.g + c.b) / 3; }
 double areaScale(const Transform &t) { return std::pow(std::fabs(t.matrix().det3()), 2.0 / 3); }
 
 } // namespace
+
+void Emitters::roundSphere(const Transform &t, Entry &entry) {
+  const auto &m = t.matrix().m;
+  const Vec3 a(m[0][0], m[1][0], m[2][0]), b(m[0][1], m[1][1], m[2][1]),
+      c(m[0][2], m[1][2], m[2][2]);
+  const double la = length(a), lb = length(b), lc = length(c);
+  const double tolerance = 1e-9 * la;
+  if (!(la > 0) || std::fabs(la - lb) > tolerance || std::fabs(la - lc) > tolerance ||
+      std::fabs(dot(a, b)) > tolerance * la || std::fabs(dot(a, c)) > tolerance * la ||
+      std::fabs(dot(b, c)) > tolerance * la)
+    return; // an ellipsoid: sampled by area
+  entry.round = true;
+  entry.centre = Vec3(m[0][3], m[1][3], m[2][3]);
+  entry.radius = la;
+}
+
+double Emitters::coneSize(const Entry &entry, const Vec3 &ref) {
+  if (!entry.round) return 0;
+  const Vec3 toCentre = entry.centre - ref;
+  const double d2 = dot(toCentre, toCentre), r2 = entry.radius * entry.radius;
+  if (!(d2 > r2 * (1 + 1e-9))) return 0; // inside, or on the surface: by area
+  const double sin2 = r2 / d2;
+  return sin2 / (1 + std::sqrt(1 - sin2)); // 1 - cos theta_max, without cancellation
+}
 
 std::optional<std::pair<Emitters::Kind, double>> Emitters::solidKind(const Entity &e) {
   constexpr double pi = std::numbers::pi;
@@ -53,7 +78,9 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
   auto addSolid = [&](const Entity &e, uint32_t entity, uint32_t part, bool csgLeaf,
                       const Color &emission) {
     if (const auto kind = solidKind(e)) {
-      entries_.push_back({entity, part, kind->first, csgLeaf, 0, kind->second});
+      Entry entry{entity, part, kind->first, csgLeaf, 0, kind->second};
+      if (entry.kind == Kind::Sphere && !csgLeaf) roundSphere(e.worldFromObject, entry);
+      entries_.push_back(entry);
       power.push_back(mean(emission) * kind->second * areaScale(e.worldFromObject));
     }
   };
@@ -117,7 +144,7 @@ const Entity &Emitters::shapeOf(const Entry &entry) const {
   return entry.csgLeaf ? std::get<Csg>(e.shape).tree->leaves[entry.part].entity : e;
 }
 
-Emitters::Sample Emitters::sample(Sampler &sampler) const {
+Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
   const double pick = sampler.next(), u = sampler.next(), v = sampler.next();
   const size_t k = std::min<size_t>(std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) -
                                         cumulative_.begin(),
@@ -136,6 +163,30 @@ Emitters::Sample Emitters::sample(Sampler &sampler) const {
     s.p = hit.p;
     s.n = hit.ng;
     s.pdfArea = entry.probability / entry.area;
+    return s;
+  }
+  if (const double cone = coneSize(entry, ref); cone > 0) {
+    // The cone of directions from ref that meet the sphere, uniformly
+    // (pbrt-v3's Sphere::Sample): theta from the axis, then the point of
+    // the visible cap that direction meets, by its angle alpha at the centre.
+    const Vec3 toCentre = entry.centre - ref;
+    const double dc = length(toCentre);
+    const Vec3 w = toCentre / dc;
+    const double sinMax = entry.radius / dc, sin2Max = sinMax * sinMax;
+    const double sin2 = sin2Max < 0.00068523 ? sin2Max * u : 1 - std::pow(1 - cone * u, 2);
+    const double cosTheta = std::sqrt(std::max(0.0, 1 - sin2));
+    const double cosAlpha =
+        sin2 / sinMax + cosTheta * std::sqrt(std::max(0.0, 1 - sin2 / sin2Max));
+    const double sinAlpha = std::sqrt(std::max(0.0, 1 - cosAlpha * cosAlpha));
+    const double phi = 2 * std::numbers::pi * v;
+    Vec3 t, b;
+    orthonormalBasis(w, t, b);
+    s.n = -(t * (sinAlpha * std::cos(phi)) + b * (sinAlpha * std::sin(phi)) + w * cosAlpha);
+    s.p = entry.centre + s.n * entry.radius;
+    const Vec3 toPoint = s.p - ref;
+    const double d2 = dot(toPoint, toPoint);
+    const double cosLight = std::fabs(dot(s.n, toPoint)) / std::sqrt(d2);
+    s.pdfArea = entry.probability / (2 * std::numbers::pi * cone) * cosLight / d2;
     return s;
   }
   Vec3 pObject, nObject;
@@ -243,7 +294,7 @@ void Emitters::sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3
   n = {0, top ? 1.0 : -1.0, 0};
 }
 
-double Emitters::pdfArea(const Hit &hit) const {
+double Emitters::pdfArea(const Hit &hit, const Vec3 &ref) const {
   if (hit.entity >= firstEntry_.size() || firstEntry_[hit.entity] < 0) return 0;
   const size_t first = static_cast<size_t>(firstEntry_[hit.entity]);
   const Entry *entry = &entries_[first];
@@ -257,6 +308,12 @@ double Emitters::pdfArea(const Hit &hit) const {
     entry = &entries_[k];
     if (entry->entity != hit.entity || entry->part != hit.primitive) return 0;
     if (entry->kind == Kind::Triangle) return entry->probability / entry->area;
+  }
+  if (const double cone = coneSize(*entry, ref); cone > 0) {
+    const Vec3 toPoint = hit.p - ref;
+    const double d2 = dot(toPoint, toPoint);
+    const double cosLight = std::fabs(dot(hit.ng, toPoint)) / std::sqrt(d2);
+    return entry->probability / (2 * std::numbers::pi * cone) * cosLight / d2;
   }
   return entry->probability * worldAreaFactor(shapeOf(*entry), hit.ng) / entry->area;
 }

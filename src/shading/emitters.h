@@ -36,13 +36,15 @@ public:
     Color radiance; ///< the finish's emission
     double pdfArea; ///< density per unit world area, the emitter's choice included
   };
-  /// A point on one of the emitters (three numbers of `sampler`); pdfArea
-  /// is 0 for a point of a CSG leaf that the result does not show.
-  Sample sample(Sampler &sampler) const;
+  /// A point on one of the emitters to light `ref` (three numbers of
+  /// `sampler`); pdfArea is 0 for a point of a CSG leaf that the result does
+  /// not show. A sphere seen from outside is sampled by the solid angle it
+  /// fills at `ref` (its visible cap only), any other emitter by area.
+  Sample sample(const Vec3 &ref, Sampler &sampler) const;
 
-  /// The density per unit world area with which sample() gives the point
-  /// of `hit` (0 for a surface it does not sample).
-  double pdfArea(const Hit &hit) const;
+  /// The density per unit world area with which sample(ref) gives the
+  /// point of `hit` (0 for a surface it does not sample).
+  double pdfArea(const Hit &hit, const Vec3 &ref) const;
 
 private:
   enum class Kind : uint8_t { Sphere, Cube, Cylinder, Cone, Torus, Triangle };
@@ -53,12 +55,22 @@ private:
     bool csgLeaf;       ///< a leaf of the CSG entity `entity`, placed by its own transform
     double probability; ///< of choosing this entry
     double area;        ///< Triangle: world area; else object-space area
+    bool round = false; ///< a Sphere placed without shear or uneven scale: a world sphere
+    Vec3 centre;        ///< round: world centre and radius
+    double radius = 0;
   };
   /// The entity whose shape and placement an entry samples: the entity, or
   /// the CSG leaf's.
   const Entity &shapeOf(const Entry &entry) const;
   /// An entry for an analytic solid (kind and object-space area), or none.
   static std::optional<std::pair<Kind, double>> solidKind(const Entity &e);
+  /// Marks a sphere entry round where its placement keeps it a sphere
+  /// (equal, orthogonal axes: a rotation, a uniform scale, a translation).
+  static void roundSphere(const Transform &t, Entry &entry);
+  /// Solid-angle sampling of a round sphere entry from `ref` outside it:
+  /// the cone's half-angle term 1 - cos(theta_max), or 0 where `ref` is
+  /// inside (then the sphere is sampled by area).
+  static double coneSize(const Entry &entry, const Vec3 &ref);
   /// Whether a point of CSG leaf `entry` (world p, normal n out of the
   /// leaf's solid) is a surface of the result; fills the result's normal.
   bool onCsgSurface(const Entry &entry, const Vec3 &p, Vec3 &n) const;

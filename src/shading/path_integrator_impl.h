@@ -116,7 +116,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       if (scatterPdf > 0) { // emitter sampling could have found this point too
         const double d2 = dot(hit.p - from, hit.p - from);
         const double cosLight = std::fabs(dot(hit.ng, s.dir));
-        const double lightPdf = cosLight > 0 ? emitters_.pdfArea(hit) * d2 / cosLight : 0;
+        const double lightPdf = cosLight > 0 ? emitters_.pdfArea(hit, from) * d2 / cosLight : 0;
         weight = path_detail::powerHeuristic(scatterPdf, lightPdf);
       }
       radiance += beta * f.emission * weight;
@@ -200,7 +200,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     // Emitters sampled directly from the diffuse and rough lobes (perfectly
     // specular ones send no other direction than their own to them).
     if ((wd > 0 || lobes.rough) && !emitters_.empty()) {
-      const Emitters::Sample e = emitters_.sample(sampler);
+      const Emitters::Sample e = emitters_.sample(hit.p, sampler);
       const Vec3 toLight = e.p - hit.p;
       const double d2 = dot(toLight, toLight), d = std::sqrt(d2);
       const Vec3 l = toLight / d;

@@ -22,8 +22,9 @@ namespace lray {
 template <class Accel> class PathIntegrator {
 public:
   static constexpr size_t kMaxTileRays = Integrator<Accel>::kMaxTileRays;
-  /// Russian roulette may end a path from this vertex on (1: the camera hit).
-  static constexpr int kRouletteFrom = 3;
+  /// Russian roulette may end a path from this vertex on (1: the camera hit):
+  /// after the third, as lua/README.md says.
+  static constexpr int kRouletteFrom = 4;
 
   /// `scene`, `accel` and `images` must outlive it; throws SceneError as
   /// Integrator does.

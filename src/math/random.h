@@ -3,30 +3,48 @@
 // count or tile order, and no state is shared between threads.
 #pragma once
 
+#include "math/mix64.h"
+#include "math/owen_sobol.h"
+
 #include <cstdint>
 
 namespace lray {
 
-/// A 64-bit mixing function (SplitMix64 finaliser constants, Steele et al. 2014).
-constexpr uint64_t mix64(uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 /// A stream of uniform numbers keyed by (frame, pixel, sample): each call to
 /// next() consumes one dimension. Cheap to copy; two samplers with the same
-/// key produce the same sequence.
+/// key produce the same sequence. Independent numbers by default; after
+/// stratify(), the dimensions come in pairs, each pair the Owen-scrambled
+/// Sobol point of the sample's index with a scramble and shuffle of its own
+/// (Burley 2020's padding): a pixel's samples are stratified in every pair
+/// of dimensions (the path tracer's light and direction choices), as in
+/// pixel position.
 class Sampler {
 public:
   Sampler() = default;
   Sampler(uint64_t frame, uint64_t pixel, uint64_t sample)
       : key_(mix64(mix64(mix64(frame + 0x9e3779b97f4a7c15ULL) ^ pixel) ^ sample)) {}
 
+  /// Stratified dimensions from here on, `index` being the sample's index
+  /// among its pixel's and `pixelSeed` the pixel's (the same for all its
+  /// samples).
+  void stratify(uint32_t index, uint64_t pixelSeed) {
+    stratified_ = true;
+    index_ = index;
+    pixelSeed_ = pixelSeed;
+  }
+
   /// Uniform double in [0, 1).
   double next() {
+    if (stratified_) return nextStratified();
     uint64_t bits = mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dim_);
     return static_cast<double>(bits >> 11) * 0x1.0p-53;
+  }
+  /// Two numbers that belong together (a point on a light, a direction):
+  /// stratified jointly after stratify(); else next() twice.
+  void next2D(double &u, double &v) {
+    if (stratified_ && (dim_ & 1)) ++dim_; // start a pair of their own
+    u = next();
+    v = next();
   }
   uint64_t key() const { return key_; }
 
@@ -36,8 +54,23 @@ public:
   uint32_t lightStratum = 0;
 
 private:
+  double nextStratified() {
+    if (dim_ & 1) {
+      ++dim_;
+      return pending_;
+    }
+    double u;
+    owenSobol2D(index_, mix64(pixelSeed_ + 0x9e3779b97f4a7c15ULL * (dim_ / 2 + 1)), u, pending_);
+    ++dim_;
+    return u;
+  }
+
   uint64_t key_ = 0;
   uint64_t dim_ = 0;
+  bool stratified_ = false;
+  uint32_t index_ = 0;
+  uint64_t pixelSeed_ = 0;
+  double pending_ = 0; ///< the pair's second number
 };
 
 } // namespace lray

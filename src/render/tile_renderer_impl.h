@@ -5,7 +5,7 @@
 
 #include "math/random.h"
 #include "render/camera_rays.h"
-#include "render/owen_sobol.h"
+#include "math/owen_sobol.h"
 #include "render/pixel_error.h"
 #include "render/sample_buffer.h"
 #include "render/tile_renderer.h"
@@ -162,6 +162,9 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
       Sampler &sampler = work.samplers[rays];
       sampler = Sampler(settings.stream(), pixel, s);
+      // The path tracer's choices, stratified over the pixel's samples.
+      if (settings.integrator == IntegratorKind::Path)
+        sampler.stratify(s, tile_detail::pixelPatternSeed(settings.stream(), pixel));
       if (spreadLight)
         sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
                                tile_detail::lightStratumOffset(settings.stream(), pixel);

@@ -145,7 +145,9 @@ const Entity &Emitters::shapeOf(const Entry &entry) const {
 }
 
 Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
-  const double pick = sampler.next(), u = sampler.next(), v = sampler.next();
+  const double pick = sampler.next();
+  double u, v;
+  sampler.next2D(u, v);
   const size_t k = std::min<size_t>(std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) -
                                         cumulative_.begin(),
                                     entries_.size() - 1);

@@ -222,7 +222,8 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     if (pick < wd) {
       // Cosine-weighted about N: the Lambertian BRDF albedo / pi times cos
       // over the pdf cos / pi leaves the albedo.
-      const double u1 = sampler.next(), u2 = sampler.next();
+      double u1, u2;
+      sampler.next2D(u1, u2);
       const double r = std::sqrt(u1), phi = 2 * std::numbers::pi * u2;
       const double cosTheta = std::sqrt(1 - u1);
       next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), cosTheta);

@@ -50,7 +50,8 @@ inline SpecularLobes specularLobes(const Vec3 &dir, const Vec3 &n, const Finish 
   l.facet = n;
   l.rough = f.roughness > 0 && (l.kr > 0 || l.kt > 0);
   if (l.rough) {
-    const double u1 = sampler.next(), u2 = sampler.next();
+    double u1, u2;
+    sampler.next2D(u1, u2);
     l.alpha = std::max(ggx::kMinAlpha, f.roughness);
     l.facet = ggx::sampleVisibleNormal(n, -dir, l.alpha, u1, u2);
   }

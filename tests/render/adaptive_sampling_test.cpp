@@ -4,7 +4,7 @@
 // converged reference falling with the threshold, the unbiasedness of
 // spreading a light's cells over a pixel's samples, and time limits.
 #include "render/backends.h"
-#include "render/owen_sobol.h"
+#include "math/owen_sobol.h"
 #include "render/pixel_error.h"
 #include "render/renderer.h"
 #include "render/sample_buffer.h"

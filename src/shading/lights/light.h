@@ -58,10 +58,7 @@ struct Light {
     LightSample sample(int k, const Vec3 &, lray::Sampler &random) const {
       const int row = k / cols_, col = k % cols_;
       double fx = 0.5, fz = 0.5;
-      if (area_) {
-        fx = random.next();
-        fz = random.next();
-      }
+      if (area_) random.next2D(fx, fz);
       return {corner_ + cellX_ * (col + fx) + cellZ_ * (row + fz), weightedColor_};
     }
 

@@ -1,12 +1,13 @@
-// Pipeline: render. Pixel sample positions for progressive (adaptive)
+// Pipeline: shared math. Pixel sample positions for progressive (adaptive)
 // sampling: the first two dimensions of the Sobol sequence, Owen-scrambled
 // with a per-pixel seed (Burley 2020, "Practical Hash-based Owen
 // Scrambling", JCGT 9(4)). Every prefix of 2^m samples is a (0,m,2)-net, so
 // a pixel's samples stay stratified wherever the adaptive sampler stops it,
-// and the scramble decorrelates neighbouring pixels.
+// and the scramble decorrelates neighbouring pixels. Also the path tracer's
+// pairs of dimensions (math/random.h, Sampler::stratify).
 #pragma once
 
-#include "math/random.h"
+#include "math/mix64.h"
 
 #include <cstdint>
 

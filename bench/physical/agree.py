@@ -30,7 +30,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 SCENES = {"cornell": (128, 128), "glossy": (160, 120), "glass": (160, 120), "mesh": (160, 120),
           "mixed": (160, 120)}
 # Scenes of the gallery (scenes/) with a twin here, rendered on request.
-GALLERY = {"cornell_gi": (400, 400)}
+GALLERY = {"cornell_gi": (256, 256)}
 
 
 def lua_path(name):

@@ -145,7 +145,8 @@ def write_tables(rows, peers, a):
                 worst[key] = max(worst.get(key, 0), ratio)
             lines.append(
                 f"| {scene} | {r['renderer']} {r['variant']} | {r['setting']} | {r['rmse']:.4f} | "
-                f"{r['render_s']:.2f} | {fmt(tf)} | {fmt(tf and tf / r['render_s'])} | {fmt(best)} | "
+                f"{r['render_s']:.2f} | {fmt(tf)} | {fmt(tf and tf / r['render_s'])} | "
+                f"{fmt(best)} | "
                 f"{fmt(ratio)} | {r['wall_s']:.2f} | {fmt(tw)} |")
     lines += ["", "Worst ratio (best LRay mode): " +
               ", ".join(f"{k} {v:.2f}" for k, v in worst.items())]

@@ -5,6 +5,7 @@
 #include "util/module_loader.h"
 
 #include <atomic>
+#include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,12 @@ std::atomic<const OiioLibrary *> loaded{nullptr};
 std::string failure; ///< why load() failed; written once, inside call_once
 
 const OiioLibrary *load() {
+  // OpenImageIO pulls in OpenCV and with it OpenBLAS, whose constructor
+  // starts a worker per core that retries its 128 MiB buffer forever when
+  // an address-space limit (ulimit -v) refuses it, and the process then
+  // hangs at exit joining them. LRay never calls BLAS: one thread, none
+  // started.
+  setenv("OPENBLAS_NUM_THREADS", "1", 1);
   std::string tried;
   if (std::string why = probeModuleUnderLimit(LRAY_OIIO_MODULE, "liblray_oiio.so",
                                               "lray_oiio_library", 30);

@@ -184,7 +184,6 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     // lit the diffuse lobe and the highlight). A Light's colour is its
     // irradiance over pi, as a Lambertian lobe of albedo 1 sees it.
     if (lobes.rough) { // whatever m.lit says: that is about diffuse and highlight
-
       local_.forEachLightSample(hit.p, sampler, [&](const Vec3 &target, const Color &light) {
         if (light.isBlack()) return;
         const Vec3 toLight = target - hit.p;
@@ -229,7 +228,8 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), cosTheta);
       beta = beta * albedo * (total / wd);
       absorption = 0;
-      scatterPdf = lobes.rough ? scatterTowards(next).pdf : wd / total * cosTheta / std::numbers::pi;
+      scatterPdf =
+          lobes.rough ? scatterTowards(next).pdf : wd / total * cosTheta / std::numbers::pi;
       ++counts.diffuse;
     } else {
       // Reflection or refraction: a smooth finish picks by the weights
@@ -243,8 +243,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       next = through ? lobes.refracted : lobes.mirror;
       if (through) absorption = s.entering ? std::max(0.0, f.absorption) : 0;
       else absorption = s.entering ? 0 : std::max(0.0, f.absorption); // reflected inside
-      const double weight = lobes.rough ? carried * total / ks
-                                        : total;
+      const double weight = lobes.rough ? carried * total / ks : total;
       beta *= weight * lobes.throughput(s.n, s.dir, next, through);
       if (lobes.rough) scatterPdf = scatterTowards(next).pdf;
       if (reflect) ++counts.reflection;

@@ -98,9 +98,11 @@ int check(const Args &a) {
   FrameStats stats;
   // The scene's own light transport (SceneInfo.integrator, max_depth), as lray renders it.
   FrameSettings transport;
-  transport.integrator = info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;
+  transport.integrator =
+      info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;
   transport.maxDepth = info.maxDepth;
-  Film film = renderScriptFrame(script, info, a.frame, a.backend, images, stats, nullptr, transport);
+  Film film =
+      renderScriptFrame(script, info, a.frame, a.backend, images, stats, nullptr, transport);
   if (stats.rays.nonFinite != 0) {
     std::cerr << a.name << ": " << stats.rays.nonFinite << " non-finite samples\n";
     return 1;

@@ -9,7 +9,6 @@ Prints one JSON line: render seconds (between Cycles' render_pre and
 render_post handlers) and wall seconds.
 """
 
-import argparse
 import json
 import math
 import os
@@ -214,16 +213,9 @@ def base(eye, target, fov, max_depth, background=None):
 def main():
     global bpy, WIDTH, HEIGHT, SPP, SEED, THREADS, ADAPTIVE
     start = time.perf_counter()
-    ap = argparse.ArgumentParser()
-    ap.add_argument("name")
-    ap.add_argument("out")
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=128)
-    ap.add_argument("--spp", type=int, default=64)
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--adaptive", type=float, default=0, help="Cycles' adaptive threshold (0: off)")
-    a = ap.parse_args()
+    a = twins.parse_args(
+        lambda ap: ap.add_argument("--adaptive", type=float, default=0,
+                                   help="Cycles' adaptive threshold (0: off)"))
     WIDTH, HEIGHT, SPP, SEED, THREADS, ADAPTIVE = (a.width, a.height, a.spp, a.seed, a.threads,
                                                    a.adaptive)
     import bpy as blender

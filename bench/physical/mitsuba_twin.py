@@ -8,7 +8,6 @@ each LRay term to Mitsuba's, as bench/physical/README.md lists them).
 Prints one JSON line: render seconds (mi.render alone) and wall seconds.
 """
 
-import argparse
 import json
 import math
 import os
@@ -105,16 +104,8 @@ def base(eye, target, fov, max_depth, background=None):
 def main():
     global mi, WIDTH, HEIGHT, SPP, SEED
     start = time.perf_counter()
-    ap = argparse.ArgumentParser()
-    ap.add_argument("name")
-    ap.add_argument("out")
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=128)
-    ap.add_argument("--spp", type=int, default=64)
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--variant", default="scalar_rgb")
-    a = ap.parse_args()
+    a = twins.parse_args(
+        lambda ap: ap.add_argument("--variant", default="scalar_rgb"))
     WIDTH, HEIGHT, SPP, SEED = a.width, a.height, a.spp, a.seed
     import drjit as dr
     import mitsuba

@@ -122,3 +122,19 @@ def load_twin(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def parse_args(extra=None):
+    """The command line both twin runners take; `extra(parser)` adds more."""
+    import argparse
+    ap = argparse.ArgumentParser()
+    ap.add_argument("name")
+    ap.add_argument("out")
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--height", type=int, default=128)
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--threads", type=int, default=2)
+    if extra:
+        extra(ap)
+    return ap.parse_args()

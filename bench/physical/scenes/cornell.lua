@@ -4,21 +4,8 @@
 -- Its twins: cornell_mitsuba.py and cornell_cycles.py, the same numbers.
 scene_info = SceneInfo() { image_width = 128, image_height = 128, integrator = "path", max_depth = 8 }
 
-local function matte(albedo)
-  return Texture() { pigment = ColorPigment(albedo),
-                     finish = Finish() { ambient = grey(0), diffuse = 1, specular = 0 } }
-end
-
--- Two triangles over four corners in order round the square; the face
--- normal (p2 - p1) x (p3 - p1) is turned to point along `facing`.
-local function quad(p, facing, texture)
-  local e1 = { p[2][1] - p[1][1], p[2][2] - p[1][2], p[2][3] - p[1][3] }
-  local e2 = { p[3][1] - p[1][1], p[3][2] - p[1][2], p[3][3] - p[1][3] }
-  local n = { e1[2] * e2[3] - e1[3] * e2[2], e1[3] * e2[1] - e1[1] * e2[3], e1[1] * e2[2] - e1[2] * e2[1] }
-  local along = n[1] * facing[1] + n[2] * facing[2] + n[3] * facing[3] > 0
-  return Mesh() { vertices = p, indices = along and { { 1, 2, 3 }, { 1, 3, 4 } } or { { 1, 3, 2 }, { 1, 4, 3 } },
-                  texture = texture }
-end
+local T = dofile("twins.lua")
+local matte, emitter, rough_mirror, glass, quad = T.matte, T.emitter, T.rough_mirror, T.glass, T.quad
 
 function scene(clock)
   local s = Scene() {
@@ -34,8 +21,6 @@ function scene(clock)
   s:add_entity(Cube(Translate(Vector(-0.33, 0.6, 0.3)) * Rotate(y, 20) * Scale(0.6, 1.2, 0.6)) { texture = matte(white) })
   s:add_entity(Cube(Translate(Vector(0.35, 0.3, -0.3)) * Rotate(y, -20) * Scale(0.6)) { texture = matte(white) })
   s:add_entity(quad({ { -0.25, 1.98, -0.25 }, { 0.25, 1.98, -0.25 }, { 0.25, 1.98, 0.25 }, { -0.25, 1.98, 0.25 } },
-                    { 0, -1, 0 },
-                    Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0,
-                                                    emission = Color(17, 12, 4) } }))
+                    { 0, -1, 0 }, emitter(Color(17, 12, 4))))
   return s
 end

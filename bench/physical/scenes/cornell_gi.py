@@ -1,25 +1,11 @@
 """The peers' twin of scenes/cornell_gi.lua (the gallery's GI scene): m is
-mitsuba_twin or cycles_twin (bench/physical)."""
+mitsuba_twin or cycles_twin (bench/physical). The box is cornell.py's."""
 import twins
-
-WHITE, RED, GREEN = (0.725, 0.71, 0.68), (0.63, 0.065, 0.05), (0.14, 0.45, 0.091)
 
 
 def scene(m):
     s = m.base(eye=(0, 1, -3.9), target=(0, 1, 0), fov=39.3, max_depth=8)
-    s["floor"] = m.mesh(*twins.quad([(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)], (0, 1, 0)),
-                        m.diffuse(WHITE))
-    s["ceiling"] = m.mesh(*twins.quad([(-1, 2, -1), (1, 2, -1), (1, 2, 1), (-1, 2, 1)], (0, -1, 0)),
-                          m.diffuse(WHITE))
-    s["back"] = m.mesh(*twins.quad([(-1, 0, 1), (1, 0, 1), (1, 2, 1), (-1, 2, 1)], (0, 0, -1)),
-                       m.diffuse(WHITE))
-    s["left"] = m.mesh(*twins.quad([(-1, 0, -1), (-1, 0, 1), (-1, 2, 1), (-1, 2, -1)], (1, 0, 0)),
-                       m.diffuse(RED))
-    s["right"] = m.mesh(*twins.quad([(1, 0, -1), (1, 0, 1), (1, 2, 1), (1, 2, -1)], (-1, 0, 0)),
-                        m.diffuse(GREEN))
+    twins.load_twin("cornell").box(m, s)
     s["glossy"] = m.sphere((-0.45, 0.4, 0.35), 0.4, m.rough_mirror(0.1))
     s["glass"] = m.sphere((0.45, 0.4, -0.3), 0.4, m.glass(1.5))
-    s["light"] = m.mesh(*twins.quad([(-0.25, 1.98, -0.25), (0.25, 1.98, -0.25), (0.25, 1.98, 0.25),
-                                     (-0.25, 1.98, 0.25)], (0, -1, 0)),
-                        m.black(), emission=(17, 12, 4))
     return s

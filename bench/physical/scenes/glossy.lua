@@ -3,15 +3,8 @@
 -- Its peers' twin: glossy.py, the same numbers.
 scene_info = SceneInfo() { image_width = 160, image_height = 120, integrator = "path", max_depth = 8 }
 
-local function matte(albedo)
-  return Texture() { pigment = ColorPigment(albedo),
-                     finish = Finish() { ambient = grey(0), diffuse = 1, specular = 0 } }
-end
-
-local function rough_mirror(alpha)
-  return Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0,
-                                         reflection = 1, roughness = alpha } }
-end
+local T = dofile("twins.lua")
+local matte, emitter, rough_mirror, glass, quad = T.matte, T.emitter, T.rough_mirror, T.glass, T.quad
 
 function scene(clock)
   local s = Scene() {
@@ -24,8 +17,6 @@ function scene(clock)
   for i, alpha in ipairs({ 0.05, 0.2, 0.5 }) do
     s:add_entity(Sphere(Translate(Vector(2 * (i - 2), 0.8, 0)) * Scale(0.8)) { texture = rough_mirror(alpha) })
   end
-  s:add_entity(Sphere(Translate(Vector(1, 3.5, -2)) * Scale(0.5)) {
-    texture = Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0,
-                                              emission = Color(30, 28, 25) } } })
+  s:add_entity(Sphere(Translate(Vector(1, 3.5, -2)) * Scale(0.5)) { texture = emitter(Color(30, 28, 25)) })
   return s
 end

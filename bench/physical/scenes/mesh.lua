@@ -4,14 +4,8 @@
 -- Its peers' twin: mesh.py.
 scene_info = SceneInfo() { image_width = 160, image_height = 120, integrator = "path", max_depth = 8 }
 
-local function matte(albedo)
-  return Texture() { pigment = ColorPigment(albedo),
-                     finish = Finish() { ambient = grey(0), diffuse = 1, specular = 0 } }
-end
-
-local function emitter(radiance)
-  return Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0, emission = radiance } }
-end
+local T = dofile("twins.lua")
+local matte, emitter, rough_mirror, glass, quad = T.matte, T.emitter, T.rough_mirror, T.glass, T.quad
 
 -- rings x sides quads about the y axis, the tube's radius rippled by
 -- bump * sin(7u) * sin(5v); faces turned so that their normals point out.

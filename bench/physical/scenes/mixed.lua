@@ -9,10 +9,8 @@
 -- mixed.py.
 scene_info = SceneInfo() { image_width = 160, image_height = 120, integrator = "path", max_depth = 8 }
 
-local function matte(albedo)
-  return Texture() { pigment = ColorPigment(albedo),
-                     finish = Finish() { ambient = grey(0), diffuse = 1, specular = 0 } }
-end
+local T = dofile("twins.lua")
+local matte, emitter, rough_mirror, glass, quad = T.matte, T.emitter, T.rough_mirror, T.glass, T.quad
 
 function scene(clock)
   local s = Scene() {
@@ -22,15 +20,11 @@ function scene(clock)
   s:add_entity(Mesh() { vertices = { { -6, 0, -4 }, { -6, 0, 6 }, { 6, 0, 6 }, { 6, 0, -4 } },
                         indices = { { 1, 2, 3 }, { 1, 3, 4 } }, texture = matte(grey(0.6)) })
   s:add_entity(Sphere(Translate(Vector(-1.2, 0.7, 0.3)) * Scale(0.7)) { texture = matte(Color(0.8, 0.3, 0.2)) })
-  s:add_entity(Sphere(Translate(Vector(1.2, 0.7, 0.3)) * Scale(0.7)) {
-    texture = Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0,
-                                              reflection = 1, roughness = 0.2 } } })
+  s:add_entity(Sphere(Translate(Vector(1.2, 0.7, 0.3)) * Scale(0.7)) { texture = rough_mirror(0.2) })
   s:add_entity(Cube(Translate(Vector(0, 0.4, 1.5)) * Rotate(y, 25) * Scale(0.8)) { texture = matte(Color(0.3, 0.5, 0.8)) })
   -- A 1.2 x 1.2 square at y = 2.5 facing down.
   s:add_entity(Mesh() { vertices = { { -0.1, 2.5, -1.1 }, { 1.1, 2.5, -1.1 }, { 1.1, 2.5, 0.1 }, { -0.1, 2.5, 0.1 } },
-                        indices = { { 1, 2, 3 }, { 1, 3, 4 } },
-                        texture = Texture() { finish = Finish() { ambient = grey(0), diffuse = 0, specular = 0,
-                                                                  emission = Color(2, 3, 5) } } })
+                        indices = { { 1, 2, 3 }, { 1, 3, 4 } }, texture = emitter(Color(2, 3, 5)) })
   local to_light = Vector(-0.5, 1, -0.6):normalized()
   s:add_light(Light() { color = Color(1, 0.95, 0.9), transform = Translate(to_light * 1e4) })
   return s

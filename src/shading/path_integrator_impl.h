@@ -5,6 +5,7 @@
 
 #include "math/onb.h"
 #include "math/spawn.h"
+#include "shading/cosine_lobe.h"
 #include "shading/emitters.h"
 #include "shading/rough_lobes.h"
 #include "shading/specular_lobes.h"
@@ -219,13 +220,11 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     Vec3 next;
     scatterPdf = 0;
     if (pick < wd) {
-      // Cosine-weighted about N: the Lambertian BRDF albedo / pi times cos
-      // over the pdf cos / pi leaves the albedo.
-      double u1, u2;
+      // Cosine-weighted about N (cosine_lobe.h): the throughput keeps the
+      // albedo over the lobe's probability.
+      double u1, u2, cosTheta;
       sampler.next2D(u1, u2);
-      const double r = std::sqrt(u1), phi = 2 * std::numbers::pi * u2;
-      const double cosTheta = std::sqrt(1 - u1);
-      next = fromBasis(s.n, r * std::cos(phi), r * std::sin(phi), cosTheta);
+      next = sampleCosine(s.n, u1, u2, cosTheta);
       beta = beta * albedo * (total / wd);
       absorption = 0;
       scatterPdf =

@@ -3,7 +3,10 @@
 // (shading/specular_lobes.h, as the path tracer chooses between its two
 // lobes): every sampled direction carries fcos / pdf, the density
 // integrates to the share of samples that leave the surface, and samples
-// follow it (chi-square over the whole sphere, reflection and refraction).
+// follow it (chi-square over the whole sphere, reflection and refraction);
+// and the diffuse lobe's cosine-weighted directions against their density.
+#include "math/onb.h"
+#include "shading/cosine_lobe.h"
 #include "shading/distribution_checks.h"
 #include "shading/rough_lobes.h"
 #include "shading/specular_lobes.h"
@@ -160,6 +163,45 @@ TEST(RoughLobes, SamplesFollowTheirDensityOverTheSphere) {
     expected[kZ * kPhi] = std::max(0.0, 1 - inside) * kSamples;
     EXPECT_LT(testing::chiSquareRatio(observed, expected), 1);
   }
+}
+
+TEST(CosineLobe, SamplesFollowTheirDensity) {
+  // The diffuse lobe's directions against cos / pi, about a tilted normal
+  // (the basis it is carried into must not bend them), binned in the
+  // normal's own frame; the density integrates to one.
+  constexpr int kTheta = 16, kPhi = 24, kSub = 10, kSamples = 200000;
+  const Vec3 n = normalize(Vec3(0.3, -0.5, 0.8));
+  Vec3 t, b;
+  orthonormalBasis(n, t, b);
+  auto bin = [&](const Vec3 &w) {
+    const double z = dot(w, n);
+    double phi = std::atan2(dot(w, b), dot(w, t));
+    if (phi < 0) phi += 2 * kPi;
+    const int i = std::clamp(int(z * kTheta), 0, kTheta - 1);
+    const int j = std::min(kPhi - 1, int(phi / (2 * kPi) * kPhi));
+    return i * kPhi + j;
+  };
+  std::vector<double> observed(kTheta * kPhi, 0), expected(kTheta * kPhi, 0);
+  Sampler sampler(31, 37, 41);
+  for (int k = 0; k < kSamples; ++k) {
+    double u1, u2, c;
+    sampler.next2D(u1, u2);
+    const Vec3 w = sampleCosine(n, u1, u2, c);
+    ASSERT_NEAR(c, dot(w, n), 1e-12);
+    ASSERT_NEAR(length(w), 1, 1e-12);
+    observed[bin(w)] += 1;
+  }
+  double total = 0;
+  for (int i = 0; i < kTheta; ++i)
+    for (int j = 0; j < kPhi; ++j)
+      for (int a = 0; a < kSub; ++a) {
+        const double z = (i + (a + 0.5) / kSub) / kTheta; // cos theta, uniform: dA = dz dphi
+        const double p = cosinePdf(z) * (1.0 / (kTheta * kSub)) * (2 * kPi / kPhi);
+        expected[i * kPhi + j] += p * kSamples;
+        total += p;
+      }
+  EXPECT_NEAR(total, 1, 1e-6);
+  EXPECT_LT(testing::chiSquareRatio(observed, expected), 1);
 }
 
 TEST(RoughLobes, NothingForDirectionsNoMicrofacetConnects) {

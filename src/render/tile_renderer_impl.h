@@ -282,7 +282,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       : settings.adaptive ? std::max<uint32_t>(1, firstSobolPass(minSamples, maxSamples) / 2)
                           : static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
   const bool pairedStrata = settings.adaptive;
-  const Integ integrator(scene, accel, images, {shares, settings.shadowSkips, settings.maxDepth, settings.clamp});
+  const Integ integrator(scene, accel, images,
+                         {shares, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const CameraRays camera(scene.camera, settings.width, settings.height);
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;

@@ -47,6 +47,14 @@ double Emitters::coneSize(const Entry &entry, const Vec3 &ref) {
   return sin2 / (1 + std::sqrt(1 - sin2)); // 1 - cos theta_max, without cancellation
 }
 
+double Emitters::conePdfArea(const Entry &entry, double cone, const Vec3 &ref, const Vec3 &p,
+                             const Vec3 &n) {
+  const Vec3 toPoint = p - ref;
+  const double d2 = dot(toPoint, toPoint);
+  const double cosLight = std::fabs(dot(n, toPoint)) / std::sqrt(d2);
+  return entry.probability / (2 * std::numbers::pi * cone) * cosLight / d2;
+}
+
 std::optional<std::pair<Emitters::Kind, double>> Emitters::solidKind(const Entity &e) {
   constexpr double pi = std::numbers::pi;
   switch (e.kind()) {
@@ -185,10 +193,7 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
     orthonormalBasis(w, t, b);
     s.n = -(t * (sinAlpha * std::cos(phi)) + b * (sinAlpha * std::sin(phi)) + w * cosAlpha);
     s.p = entry.centre + s.n * entry.radius;
-    const Vec3 toPoint = s.p - ref;
-    const double d2 = dot(toPoint, toPoint);
-    const double cosLight = std::fabs(dot(s.n, toPoint)) / std::sqrt(d2);
-    s.pdfArea = entry.probability / (2 * std::numbers::pi * cone) * cosLight / d2;
+    s.pdfArea = conePdfArea(entry, cone, ref, s.p, s.n);
     return s;
   }
   Vec3 pObject, nObject;
@@ -311,12 +316,8 @@ double Emitters::pdfArea(const Hit &hit, const Vec3 &ref) const {
     if (entry->entity != hit.entity || entry->part != hit.primitive) return 0;
     if (entry->kind == Kind::Triangle) return entry->probability / entry->area;
   }
-  if (const double cone = coneSize(*entry, ref); cone > 0) {
-    const Vec3 toPoint = hit.p - ref;
-    const double d2 = dot(toPoint, toPoint);
-    const double cosLight = std::fabs(dot(hit.ng, toPoint)) / std::sqrt(d2);
-    return entry->probability / (2 * std::numbers::pi * cone) * cosLight / d2;
-  }
+  if (const double cone = coneSize(*entry, ref); cone > 0)
+    return conePdfArea(*entry, cone, ref, hit.p, hit.ng);
   return entry->probability * worldAreaFactor(shapeOf(*entry), hit.ng) / entry->area;
 }
 

@@ -71,6 +71,11 @@ private:
   /// the cone's half-angle term 1 - cos(theta_max), or 0 where `ref` is
   /// inside (then the sphere is sampled by area).
   static double coneSize(const Entry &entry, const Vec3 &ref);
+  /// The density per unit area that uniform sampling of that cone gives a
+  /// point p of normal n on the sphere (the solid angle's 1 / (2 pi cone)
+  /// carried to area), the entry's choice included.
+  static double conePdfArea(const Entry &entry, double cone, const Vec3 &ref, const Vec3 &p,
+                            const Vec3 &n);
   /// Whether a point of CSG leaf `entry` (world p, normal n out of the
   /// leaf's solid) is a surface of the result; fills the result's normal.
   bool onCsgSurface(const Entry &entry, const Vec3 &p, Vec3 &n) const;

@@ -165,8 +165,9 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
       }
       return sc;
     };
-    // Light towards wi from a point `target` on a light: shadowed, and
-    // through an absorbing object when wi enters it.
+    // Whether a shadow ray reaches `target`, a point of a light (or of an
+    // emitter's surface: onSurface); insideAttenuation below adds Beer's
+    // law where the direction enters an absorbing object.
     auto visible = [&](const Vec3 &target, bool onSurface) {
       Ray shadow = spawnRayTo(hit, target);
       // A point on an emitter's surface: stop short of it by more than the

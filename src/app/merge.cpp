@@ -136,6 +136,7 @@ std::string mergeFrame(const fs::path &dir, const std::string &finalName,
         const int tx = x - w.x0, ty = y - w.y0;
         film.set(x, y, t.get(tx, ty));
         film.setError(x, y, t.error(tx, ty));
+        film.setVariance(x, y, t.variance(tx, ty));
         film.setSampleCount(x, y, t.sampleCount(tx, ty));
         if (film.hasAovs()) film.aov(x, y) = t.aov(tx, ty);
       }

@@ -1,7 +1,7 @@
 // Pipeline: render. The frame buffer: one averaged, unclamped RGB value per
 // pixel, filled tile by tile; quantised only when an LDR file is written.
-// Beside the colour it keeps each pixel's error estimate and sample count,
-// and how the frame's sampling ended.
+// Beside the colour it keeps each pixel's error estimate, the variance of
+// its mean and its sample count, and how the frame's sampling ended.
 #pragma once
 
 #include "math/color.h"
@@ -29,7 +29,7 @@ class Film {
 public:
   Film(int width, int height)
       : width_(width), height_(height), rgb_(pixels() * 3, 0.f), error_(pixels(), 0.f),
-        samples_(pixels(), 0) {}
+        variance_(pixels() * 3, 0.f), samples_(pixels(), 0) {}
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -54,6 +54,19 @@ public:
     samples_[static_cast<size_t>(y) * width_ + x] = n;
   }
   const std::vector<float> &errorData() const { return error_; }
+  /// The variance of the pixel's value (the mean of its samples) per
+  /// channel: the samples' variance over their count (0 below two samples).
+  /// lray-compare's noise-aware test reads it from the EXR (Variance.R/G/B).
+  Color variance(int x, int y) const {
+    const float *v = &variance_[(static_cast<size_t>(y) * width_ + x) * 3];
+    return {v[0], v[1], v[2]};
+  }
+  void setVariance(int x, int y, const Color &v) {
+    float *p = &variance_[(static_cast<size_t>(y) * width_ + x) * 3];
+    p[0] = static_cast<float>(v.r);
+    p[1] = static_cast<float>(v.g);
+    p[2] = static_cast<float>(v.b);
+  }
 
   /// The layers for denoisers and compositors, per pixel, averaged over a
   /// 4 x 4 grid of camera rays (render/tile_renderer_impl.h): camera-space
@@ -76,6 +89,7 @@ private:
   int width_, height_;
   std::vector<float> rgb_;
   std::vector<float> error_;
+  std::vector<float> variance_;
   std::vector<uint32_t> samples_;
   std::vector<Aov> aov_;
 };

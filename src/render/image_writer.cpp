@@ -91,7 +91,7 @@ std::vector<uint8_t> encodePng(const Film &film, bool srgb) {
 }
 
 std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels) {
-  channels = {"R", "G", "B", "Error", "SampleCount"};
+  channels = {"R", "G", "B", "Error", "SampleCount", "Variance.R", "Variance.G", "Variance.B"};
   if (film.hasAovs())
     for (const char *name : {"Z", "N.X", "N.Y", "N.Z", "Albedo.R", "Albedo.G", "Albedo.B"})
       channels.push_back(name);
@@ -99,10 +99,11 @@ std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channel
   pixels.reserve(film.pixels() * channels.size());
   for (int y = 0; y < film.height(); ++y) {
     for (int x = 0; x < film.width(); ++x) {
-      const Color c = film.get(x, y);
+      const Color c = film.get(x, y), v = film.variance(x, y);
       pixels.insert(pixels.end(),
                     {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b),
-                     film.error(x, y), static_cast<float>(film.sampleCount(x, y))});
+                     film.error(x, y), static_cast<float>(film.sampleCount(x, y)),
+                     static_cast<float>(v.r), static_cast<float>(v.g), static_cast<float>(v.b)});
       if (film.hasAovs()) {
         const Film::Aov &a = film.aov(x, y);
         pixels.insert(pixels.end(), {a.z, a.n[0], a.n[1], a.n[2], a.albedo[0], a.albedo[1],

@@ -26,7 +26,8 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb);
 
 /// The channels an EXR of `film` holds, interleaved, and their names:
 /// R, G, B, Error (the pixel's error estimate, render/pixel_error.h),
-/// SampleCount, then with AOVs Z, N.X, N.Y, N.Z, Albedo.R, Albedo.G,
+/// SampleCount, Variance.R, Variance.G, Variance.B (the variance of the
+/// pixel's value, Film::variance), then with AOVs Z, N.X, N.Y, N.Z, Albedo.R, Albedo.G,
 /// Albedo.B (the names of pbrt-v4's GBufferFilm).
 std::vector<float> exrPixels(const Film &film, std::vector<std::string> &channels);
 

@@ -8,6 +8,7 @@
 
 #include "math/color.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -23,6 +24,17 @@ inline double pixelError(const Color &sum, const Color &oddSum, uint32_t count) 
       std::abs(all.r - odd.r) + std::abs(all.g - odd.g) + std::abs(all.b - odd.b);
   const double brightness = std::max(0.0, all.r + all.g + all.b);
   return difference / (1e-4 + std::sqrt(brightness));
+}
+
+/// The variance of the mean of `count` samples whose values, less `shift`,
+/// sum to `sum` and their squares to `squares` (per channel; 0 below two
+/// samples). `shift` (any value near the samples, e.g. their first mean)
+/// keeps the difference of the two sums from cancelling in float.
+inline Color varianceOfMean(const Color &sum, const Color &squares, uint32_t count) {
+  if (count < 2) return {};
+  const double n = count;
+  auto one = [n](double s, double q) { return std::max(0.0, q - s * s / n) / (n * (n - 1)); };
+  return {one(sum.r, squares.r), one(sum.g, squares.g), one(sum.b, squares.b)};
 }
 
 } // namespace lray

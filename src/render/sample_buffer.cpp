@@ -10,6 +10,7 @@ namespace lray {
 
 SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1)
     : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 6, 0.f),
+      squares_(static_cast<size_t>(width) * height * 6, 0.f),
       count_(static_cast<size_t>(width) * height, 0),
       active_(static_cast<size_t>(width) * height, 1),
       inRegion_(static_cast<size_t>(width) * height, 1),
@@ -92,6 +93,9 @@ void SampleBuffer::writeTo(Film &film) const {
       const uint32_t n = count_[i];
       film.set(x, y, n ? Color(s[0], s[1], s[2]) / static_cast<double>(n) : Color());
       film.setError(x, y, static_cast<float>(error(i)));
+      const float *q = &squares_[i * 6];
+      const Color shifted = Color(s[0], s[1], s[2]) - Color(q[3], q[4], q[5]) * n;
+      film.setVariance(x, y, varianceOfMean(shifted, {q[0], q[1], q[2]}, n));
       film.setSampleCount(x, y, n);
     }
   }

@@ -1,7 +1,7 @@
 // Pipeline: render. What adaptive sampling keeps per pixel between passes:
 // the sums of all samples and of the odd-numbered ones (for the error
-// estimate), the sample count, and whether the pixel takes part in the
-// next pass.
+// estimate), of their squares (for the variance), the sample count, and
+// whether the pixel takes part in the next pass.
 #pragma once
 
 #include "math/color.h"
@@ -25,9 +25,24 @@ public:
   size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
 
   /// Adds one pass's samples of pixel i: their sum, the sum of the
-  /// odd-numbered ones, and how many (summed in double by the caller, so
-  /// the float sums here take one rounding per pass, not per sample).
-  void add(size_t i, const Color &sum, const Color &oddSum, uint32_t samples) {
+  /// odd-numbered ones, of their squares, and how many (summed in double by
+  /// the caller, so the float sums here take one rounding per pass, not per
+  /// sample). The squares are kept about the pixel's first mean (`shift`),
+  /// so that the variance does not cancel away in float.
+  void add(size_t i, const Color &sum, const Color &oddSum, const Color &squares,
+           uint32_t samples) {
+    float *q = &squares_[i * 6];
+    if (count_[i] == 0 && samples > 0) {
+      const Color first = sum / static_cast<double>(samples);
+      q[3] = static_cast<float>(first.r);
+      q[4] = static_cast<float>(first.g);
+      q[5] = static_cast<float>(first.b);
+    }
+    // sum (x - m)^2 = sum x^2 - 2 m sum x + k m^2, in double over one pass.
+    const double k = samples;
+    q[0] += static_cast<float>(squares.r - 2 * q[3] * sum.r + k * q[3] * q[3]);
+    q[1] += static_cast<float>(squares.g - 2 * q[4] * sum.g + k * q[4] * q[4]);
+    q[2] += static_cast<float>(squares.b - 2 * q[5] * sum.b + k * q[5] * q[5]);
     float *s = &sums_[i * 6];
     s[0] += static_cast<float>(sum.r);
     s[1] += static_cast<float>(sum.g);
@@ -44,6 +59,11 @@ public:
     s[1] = static_cast<float>(c.g);
     s[2] = static_cast<float>(c.b);
     s[3] = s[4] = s[5] = 0.f;
+    float *q = &squares_[i * 6];
+    q[0] = q[1] = q[2] = 0.f;
+    q[3] = s[0];
+    q[4] = s[1];
+    q[5] = s[2];
     count_[i] = 1;
     centreOnly_[i] = 1;
   }
@@ -53,6 +73,7 @@ public:
   bool restart(size_t i) {
     if (!centreOnly_[i]) return false;
     std::fill_n(&sums_[i * 6], 6, 0.f);
+    std::fill_n(&squares_[i * 6], 6, 0.f);
     count_[i] = 0;
     centreOnly_[i] = 0;
     return true;
@@ -86,6 +107,8 @@ public:
 private:
   int width_, height_;
   std::vector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
+  /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift
+  std::vector<float> squares_;
   std::vector<uint32_t> count_;
   std::vector<uint8_t> active_;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels

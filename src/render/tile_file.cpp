@@ -89,9 +89,9 @@ void writeTile(const Film &film, const TileHeader &header, const std::string &pa
   });
 }
 
-/// The most channels an LRay tile has: R, G, B, Error, SampleCount and the
-/// seven AOV channels.
-constexpr size_t kMaxTileChannels = 12;
+/// The most channels an LRay tile has: R, G, B, Error, SampleCount, three
+/// of variance and the seven AOV channels.
+constexpr size_t kMaxTileChannels = 15;
 
 TileHeader readTileHeader(const std::string &path, FloatWindow &image) {
   if (std::string why = oiioLibrary().readFloatWindow(path, image, false); !why.empty())
@@ -169,6 +169,8 @@ Tile readTile(const std::string &path) {
   if (r < 0 || g < 0 || b < 0 || err < 0 || count < 0)
     throw SceneError("tile '" + path +
                      "': missing one of the channels R, G, B, Error, SampleCount");
+  const int vr = at("Variance.R"), vg = at("Variance.G"), vb = at("Variance.B");
+  const bool variance = vr >= 0 && vg >= 0 && vb >= 0;
   const int z = at("Z"), nx = at("N.X"), ny = at("N.Y"), nz = at("N.Z"), ar = at("Albedo.R"),
             ag = at("Albedo.G"), ab = at("Albedo.B");
   const bool aovs = z >= 0 && nx >= 0 && ny >= 0 && nz >= 0 && ar >= 0 && ag >= 0 && ab >= 0;
@@ -179,6 +181,7 @@ Tile readTile(const std::string &path) {
       const float *p = &image.pixels[(static_cast<size_t>(y) * image.width + x) * nc];
       tile.film.set(x, y, {p[r], p[g], p[b]});
       tile.film.setError(x, y, p[err]);
+      if (variance) tile.film.setVariance(x, y, {p[vr], p[vg], p[vb]});
       const float n = p[count];
       tile.film.setSampleCount(x, y, n >= 0 && n <= 4294967040.f ? static_cast<uint32_t>(n) : 0);
       if (aovs) {

@@ -72,6 +72,7 @@ template <class Integ> struct TileWork {
   std::array<uint32_t, kTilePixels> sampleOf; ///< ... and is its sample sampleOf[j]
   std::array<uint16_t, kTilePixels> pixelList; ///< the tile pixels with samples to take
   std::array<Color, kTilePixels> sums, oddSums;
+  std::array<Color, kTilePixels> squares; ///< the sum of the samples' squares
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
   static_assert(kTilePixels <= Integ::kMaxTileRays);
@@ -110,7 +111,8 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 } // namespace tile_detail
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
-/// end, summing their colours into work.sums / work.oddSums. `position(x,
+/// end, summing their colours into work.sums / work.oddSums (and their
+/// squares into work.squares). `position(x,
 /// y, s, sampler, px, py)` gives sample s's image position. The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
@@ -129,6 +131,7 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   for (size_t i = 0; i < count; ++i) {
     work.sums[i] = Color();
     work.oddSums[i] = Color();
+    work.squares[i] = Color();
     work.taken[i] = 0;
     if (work.first[i] < end) {
       work.pixelList[sampling++] = static_cast<uint16_t>(i);
@@ -149,6 +152,7 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       }
       const size_t i = work.pixelOf[j];
       work.sums[i] += c;
+      work.squares[i] += c * c;
       if (work.sampleOf[j] & 1) work.oddSums[i] += c;
       ++work.taken[i];
     }
@@ -326,6 +330,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
             film.set(x, y, work.sums[i] * invSamples);
             film.setError(x, y,
                           static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
+            film.setVariance(x, y, varianceOfMean(work.sums[i], work.squares[i], total));
             film.setSampleCount(x, y, total);
           }
           return true;
@@ -415,7 +420,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
             for (size_t i = 0; i < count; ++i)
               if (work.taken[i])
                 buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
-                           work.taken[i]);
+                           work.squares[i], work.taken[i]);
           }
           return true;
         });

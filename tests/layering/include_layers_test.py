@@ -22,7 +22,7 @@ LAYERS = [
     ["accel/embree", "accel/kdtree"],                               # the backends
     ["render"],                                                     # backends x integrators, tiles
     ["run"],                                                        # options -> run plan
-    ["app/watch"],                                                  # live preview
+    ["app/watch", "compare"],                                       # live preview; lray-compare
     ["app"],                                                        # the programs
 ]
 LAYER = {folder: i for i, folders in enumerate(LAYERS) for folder in folders}

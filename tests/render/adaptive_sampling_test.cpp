@@ -405,14 +405,45 @@ TEST(OwenSobol, EveryAlignedBlockOfPowerOfTwoSamplesIsStratified) {
 TEST(SampleBuffer, AnUnconvergedPixelKeepsItsEightNeighboursActive) {
   SampleBuffer buffer(5, 5);
   for (int y = 0; y < 5; ++y)
-    for (int x = 0; x < 5; ++x) buffer.add(buffer.index(x, y), {4, 4, 4}, {2, 2, 2}, 4);
-  buffer.add(buffer.index(1, 1), {4, 0, 0}, {0, 0, 0}, 0); // pixel (1,1): halves disagree
+    for (int x = 0; x < 5; ++x) buffer.add(buffer.index(x, y), {4, 4, 4}, {2, 2, 2}, {4, 4, 4}, 4);
+  // pixel (1,1): halves disagree
+  buffer.add(buffer.index(1, 1), {4, 0, 0}, {0, 0, 0}, {16, 0, 0}, 0);
   EXPECT_EQ(buffer.updateActive(0.01, 100), 9u);
   for (int y = 0; y < 5; ++y)
     for (int x = 0; x < 5; ++x)
       EXPECT_EQ(buffer.active(buffer.index(x, y)), x <= 2 && y <= 2) << x << "," << y;
   // At the maximum, nothing stays active.
   EXPECT_EQ(buffer.updateActive(0.01, 4), 0u);
+}
+
+TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {
+  // Samples 1000 + small noise over 8 passes: summed naively in float, the
+  // sum of squares would cancel away; about the pixel's first mean it does
+  // not (Film::variance is the samples' variance over their count).
+  SampleBuffer buffer(1, 1);
+  double sum = 0, squares = 0;
+  int n = 0;
+  for (int pass = 0; pass < 8; ++pass) {
+    Color s, q;
+    for (int k = 0; k < 16; ++k, ++n) {
+      const double v = 1000 + 0.01 * ((n * 37) % 11 - 5);
+      s += Color(v, v, v);
+      q += Color(v * v, v * v, v * v);
+      sum += v;
+      squares += v * v;
+    }
+    buffer.add(0, s, Color(), q, 16);
+  }
+  Film film(1, 1);
+  buffer.writeTo(film);
+  const double mean = sum / n;
+  double centred = 0;
+  for (int k = 0; k < n; ++k) {
+    const double v = 1000 + 0.01 * ((k * 37) % 11 - 5);
+    centred += (v - mean) * (v - mean);
+  }
+  const double expected = centred / (n - 1) / n;
+  EXPECT_NEAR(film.variance(0, 0).g, expected, 1e-3 * expected);
 }
 
 } // namespace

@@ -81,19 +81,21 @@ TEST(ImageWriter, ExrKeepsUnclampedFloats) {
   fs::remove_all(dir);
 }
 
-TEST(ImageWriter, ExrCarriesTheErrorEstimateSampleCountAndAovLayers) {
+TEST(ImageWriter, ExrCarriesTheErrorEstimateSampleCountVarianceAndAovLayers) {
   fs::path dir = freshDir("exr_layers");
   Film film = testFilm();
   film.setError(1, 0, 0.125f);
   film.setSampleCount(1, 0, 64);
+  film.setVariance(1, 0, {0.5, 0.25, 0.0625});
   film.enableAovs();
   film.aov(1, 0) = {3.5f, {0, 1, 0}, {0.9f, 0.5f, 0.1f}};
   std::string path = (dir / "a.exr").string();
   writeImage(film, path, ImageFormat::Exr, false);
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in);
-  const std::vector<std::string> expected{"R", "G", "B", "Error", "SampleCount", "Z", "N.X",
-                                          "N.Y", "N.Z", "Albedo.R", "Albedo.G", "Albedo.B"};
+  const std::vector<std::string> expected{
+      "R",   "G",   "B",   "Error",    "SampleCount", "Variance.R", "Variance.G", "Variance.B",
+      "Z",   "N.X", "N.Y", "N.Z",      "Albedo.R",    "Albedo.G",   "Albedo.B"};
   // OpenEXR stores channels sorted by name; OpenImageIO gives them back in
   // its own order, so compare as sets and read each by name.
   const auto &names = in->spec().channelnames;
@@ -108,6 +110,7 @@ TEST(ImageWriter, ExrCarriesTheErrorEstimateSampleCountAndAovLayers) {
   };
   EXPECT_FLOAT_EQ(at(1, 0, "Error"), 0.125f);
   EXPECT_FLOAT_EQ(at(1, 0, "SampleCount"), 64);
+  EXPECT_FLOAT_EQ(at(1, 0, "Variance.G"), 0.25f);
   EXPECT_FLOAT_EQ(at(1, 0, "Z"), 3.5f);
   EXPECT_FLOAT_EQ(at(1, 0, "N.Y"), 1);
   EXPECT_FLOAT_EQ(at(1, 0, "Albedo.R"), 0.9f);

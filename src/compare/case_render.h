@@ -1,0 +1,25 @@
+// lray-compare: one suite case rendered by the lray program, in a process
+// of its own (a scene that fails, runs out of time or crashes is that
+// case's failure, with lray's message, never the tool's).
+#pragma once
+
+#include "compare/suite.h"
+
+#include <string>
+
+namespace lray::compare {
+
+struct CaseRender {
+  bool ok = false;
+  std::string image;   ///< the frame lray wrote (when ok)
+  std::string message; ///< why not: lray's last lines, a timeout, a signal
+  double seconds = 0;
+};
+
+/// Renders `c`'s frame with `lray` into `dir` (emptied first; lray's output
+/// goes to dir/lray.log), in the approved image's format, with the case's
+/// options, plus its approve_options when `forApproval`.
+CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::string &dir,
+                      bool forApproval);
+
+} // namespace lray::compare

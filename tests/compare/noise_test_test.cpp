@@ -44,12 +44,7 @@ CompareImage simulate(uint32_t seed, int w = 64, int h = 48, double gain = 1, in
   return im;
 }
 
-Criteria noise(double alpha) {
-  Criteria c;
-  c.metric = Metric::Noise;
-  c.threshold = alpha;
-  return c;
-}
+Criteria noise(double alpha) { return {.metric = Metric::Noise, .threshold = alpha}; }
 
 } // namespace
 

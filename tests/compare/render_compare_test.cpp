@@ -98,12 +98,7 @@ end
   return im;
 }
 
-Criteria noise(double alpha) {
-  Criteria c;
-  c.metric = Metric::Noise;
-  c.threshold = alpha;
-  return c;
-}
+Criteria noise(double alpha) { return {.metric = Metric::Noise, .threshold = alpha}; }
 
 } // namespace
 

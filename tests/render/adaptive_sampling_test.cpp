@@ -375,6 +375,24 @@ TEST(PixelError, HalvesThatAgreeGiveZeroAndTheFormulaOtherwise) {
   EXPECT_NEAR(pixelError({4, 0, 0}, {1, 0, 0}, 4), 0.5 / (1e-4 + 1), 1e-12);
 }
 
+TEST(OwenSobol, TheSecondDimensionByTableIsTheXorOfDirectionNumbers) {
+  // The definition, bit by bit, against the byte tables, over indices with
+  // every byte populated.
+  auto byBits = [](uint32_t index) {
+    uint32_t v = 1u << 31, x = 0;
+    for (; index; index >>= 1, v ^= v >> 1)
+      if (index & 1) x ^= v;
+    return x;
+  };
+  uint64_t state = 1;
+  for (int k = 0; k < 100000; ++k) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const uint32_t index = k < 1024 ? static_cast<uint32_t>(k) : static_cast<uint32_t>(state >> 32);
+    ASSERT_EQ(owen_detail::sobolSecond(index), byBits(index)) << index;
+  }
+  EXPECT_EQ(owen_detail::sobolSecond(0xffffffffu), byBits(0xffffffffu));
+}
+
 TEST(OwenSobol, EveryAlignedBlockOfPowerOfTwoSamplesIsStratified) {
   // (0, m, 2)-net: each elementary interval of area 2^-m holds one point.
   for (uint64_t seed : {1ull, 77ull, 0xdeadbeefcafeull}) {

@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+"""Where a render's time goes: a perf profile of each bench scene, by kind.
+
+For each scene of bench/time_vs_error (and, with --gallery, scenes/*.lua)
+this renders one frame at a fixed setting with --stats, then again under
+`perf record`, starting the sampling when the render starts (after the
+script, scene and acceleration structure: their times from the first run),
+and sorts the samples into kinds by the function (or library) they fell in:
+
+    traversal     Embree's own code (libembree3), the kd-tree's traversal
+    shape tests   the shapes' ray tests, triangle hits, CSG, user-geometry
+                  callbacks
+    shading       the integrator's shading, finishes, lobes, surfaces
+    pigments      pigments and noise
+    lights        light sampling and shadow rays' set-up
+    sampling      the tile loop, camera rays, samplers, film
+    libm          the C maths library (called from all of the above)
+    other         the rest (threads, kernel, allocation, output)
+
+A table (markdown) goes to stdout and --out/profile.md. See README.md in
+this folder, and bench/README.md for the current figures.
+
+    bench/throughput/profile.py                     # 640x360, -s 3, 1 thread, both backends
+    bench/throughput/profile.py -w 320 -H 180 --backends embree --gallery
+"""
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+BENCH_SCENES = os.path.join(ROOT, "bench", "time_vs_error", "scenes")
+# name -> extra lray options (bench/time_vs_error/run.py renders the same frames)
+SCENES = {"arealight": [], "glass": [], "spheres16k": [], "mesh200k": [], "pigments": [],
+          "ring": ["--frames", "10"]}
+
+KINDS = ["traversal", "shape tests", "shading", "pigments", "lights", "sampling", "libm", "other"]
+# First match wins; matched against "dso symbol".
+RULES = [
+    ("traversal", r"libembree3|KdTree|kdtree|Kd[A-Z]\w*::|traverse|Accelerator::intersect"),
+    ("shape tests", r"::intersect\b|::occluded\b|intersectShape|occludedShape|TriangleHit|"
+                    r"triangle|Triangle|Csg|csg|EmbreeCallbacks|solveQuartic|quartic|"
+                    r"Sphere::|Cube::|Cylinder::|Cone::|Torus::|Plane::|Mesh::|"
+                    r"float_frame|FloatFrame|fillLanes|fillAnalytic|wideObjectSpace|prefilter|"
+                    r"Transform::apply"),
+    ("pigments", r"Pigment|pigment|noise|Noise|perlin|Perlin|Marble|Wood|Checker|turbulence|"
+                 r"TextureImage|Image(Cache|Map)"),
+    ("lights", r"Light|light|shadow|Shadow|Emitter|emitter"),
+    ("shading", r"Integrator|shade|Shade|Finish|finish|Lobe|lobe|surface|Surface|fresnel|"
+                r"Fresnel|refract|reflect|Ggx|ggx|Path|offsetRayOrigin"),
+    ("sampling", r"sampleTile|renderTiles|Sampler|sampler|owenSobol|Sobol|sobol|mix64|Film|"
+                 r"CameraRays|camera|pixelError|SampleBuffer|forEachTile|tbb"),
+    ("libm", r"libm\.so|libm-"),
+]
+
+
+def lray_run(lray, scene, out, args, extra, stats, perf=None, delay_ms=0):
+    cmd = [lray, scene, out, "-q", "--stats", stats] + extra + args
+    if perf:
+        cmd = ["perf", "record", "-q", "-F", "2999", "-o", perf, "-D", str(delay_ms), "--"] + cmd
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with open(stats) as f:
+        return json.load(f)
+
+
+def bare(symbol):
+    """The symbol without template arguments and parameter lists, so that
+    Integrator<KdTreeAccelerator>::shade(Hit const*, ...) reads
+    Integrator::shade: a function is sorted by its own name."""
+    out, depth = [], 0
+    for ch in symbol:
+        if ch in "<(":
+            depth += 1
+        elif ch in ">)" and depth:
+            depth -= 1
+        elif not depth:
+            out.append(ch)
+    return "".join(out)
+
+
+def classify(perf_data):
+    text = subprocess.run(["perf", "report", "-i", perf_data, "--sort", "dso,symbol", "--stdio",
+                           "--percent-limit", "0", "-t", "\t"],
+                          check=True, capture_output=True, text=True).stdout
+    shares = {k: 0.0 for k in KINDS}
+    for line in text.splitlines():
+        if not line.strip() or line.startswith("#"):
+            continue
+        parts = [p.strip() for p in line.split("\t")]
+        if len(parts) < 3 or not parts[0].endswith("%"):
+            continue
+        share = float(parts[0].rstrip("%"))
+        name = parts[1] + " " + bare(parts[2])
+        kind = next((k for k, pattern in RULES if re.search(pattern, name)), "other")
+        shares[kind] += share
+    total = sum(shares.values()) or 1
+    return {k: 100 * v / total for k, v in shares.items()}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lray", default=os.path.join(ROOT, "build", "lray"))
+    ap.add_argument("-w", "--width", type=int, default=640)
+    ap.add_argument("-H", "--height", type=int, default=360)
+    ap.add_argument("-s", "--samples", type=int, default=3)
+    ap.add_argument("-t", "--threads", type=int, default=1)
+    ap.add_argument("--backends", nargs="+", default=["embree", "kdtree"])
+    ap.add_argument("--gallery", action="store_true", help="also scenes/*.lua, frame 0")
+    ap.add_argument("--out", default=None, help="folder for profile.md (default: a temp folder)")
+    a = ap.parse_args()
+    out = a.out or tempfile.mkdtemp(prefix="lray_profile_")
+    os.makedirs(out, exist_ok=True)
+    scenes = [(name, os.path.join(BENCH_SCENES, name + ".lua"), extra)
+              for name, extra in SCENES.items()]
+    if a.gallery:
+        for f in sorted(os.listdir(os.path.join(ROOT, "scenes"))):
+            if f.endswith(".lua") and f != "twins.lua":
+                scenes.append((f[:-4], os.path.join(ROOT, "scenes", f), ["--frames", "0"]))
+    args = ["-w", str(a.width), "-H", str(a.height), "-s", str(a.samples), "-t", str(a.threads)]
+    head = "| scene | backend | render s | " + " | ".join(KINDS) + " |"
+    rows = [head, "|" + "---|" * (len(KINDS) + 3)]
+    print(head, flush=True)
+    for name, path, extra in scenes:
+        for backend in a.backends:
+            opts = args + ["--backend", backend]
+            stats = os.path.join(out, f"{name}.{backend}.json")
+            s = lray_run(a.lray, path, os.path.join(out, "img"), opts, extra, stats)
+            t = s["times"]
+            before = t["load_script"] + t["scene"] + t["images"] + t["build"]
+            perf = os.path.join(out, f"{name}.{backend}.perf")
+            lray_run(a.lray, path, os.path.join(out, "img"), opts, extra, stats, perf,
+                     int(before * 1000) + 5)
+            shares = classify(perf)
+            row = f"| {name} | {backend} | {t['render']:.3f} | " + " | ".join(
+                f"{shares[k]:.0f} %" for k in KINDS) + " |"
+            rows.append(row)
+            print(row, flush=True)
+    with open(os.path.join(out, "profile.md"), "w") as f:
+        f.write(f"{a.width}x{a.height}, -s {a.samples}, {a.threads} thread(s)\n\n")
+        f.write("\n".join(rows) + "\n")
+    print(f"profile: {out}/profile.md", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -191,6 +191,13 @@ int runCompare(int argc, const char *const *argv) {
       }
       CaseResult r;
       r.name = o.name.empty() ? fs::path(o.fresh).stem().string() : o.name;
+      // The name is a folder of the HTML report: nothing that leaves it.
+      if (r.name.empty() || r.name.find_first_of("/\\") != std::string::npos ||
+          r.name.front() == '.') {
+        std::fprintf(stderr, "lray-compare: --name '%s': give a plain file name\n",
+                     r.name.c_str());
+        return 2;
+      }
       r.fresh = o.fresh;
       r.approved = o.approved;
       title = "lray-compare";

@@ -171,6 +171,7 @@ TEST_F(CompareTool, UsageAndSuiteErrorsExitTwoNamingTheLine) {
   EXPECT_EQ(compare(dir, "").status, 2);
   EXPECT_EQ(compare(dir, "a.png").status, 2);
   EXPECT_EQ(compare(dir, "--suite suite.toml --only nosuch").status, 2);
+  EXPECT_EQ(compare(dir, "a.png b.png --name ../escape --html report").status, 2);
   // A missing image is the case's error (exit 1), not a usage error.
   r = compare(dir, "missing.png approved/missing.png");
   EXPECT_EQ(r.status, 1);

@@ -140,7 +140,39 @@ void registerSceneClasses(Registry &reg) {
       })
       .attr("transform", &Camera::worldFromCamera)
       .attr("fov", &Camera::fov, fieldOfView)
+      .attr("aspect", &Camera::aspect, positiveNumber)
+      .attr("aperture", &Camera::aperture, nonNegativeNumber)
+      .attr("focal_distance", &Camera::focalDistance, positiveNumber);
+
+  reg.cls<CameraObj>("Orthographic")
+      .defaults(+[](CameraObj &c) { c.kind = CameraKind::Orthographic; })
+      .ctor(+[](CameraObj &c, std::optional<double> width, std::optional<double> aspect) {
+        if (width) {
+          if (!(*width > 0))
+            throw ScriptError("Orthographic: argument 1 expects a positive number, got " +
+                              formatNumber(*width));
+          c.width = *width;
+        }
+        if (aspect) {
+          if (!(*aspect > 0))
+            throw ScriptError("Orthographic: argument 2 expects a positive number, got " +
+                              formatNumber(*aspect));
+          c.aspect = *aspect;
+        }
+      })
+      .attr("transform", &Camera::worldFromCamera)
+      .attr("width", &Camera::width, positiveNumber)
       .attr("aspect", &Camera::aspect, positiveNumber);
+
+  // Every direction, on an image that should be 2:1 (lray warns otherwise,
+  // as for any camera whose aspect is not the image's).
+  reg.cls<CameraObj>("Spherical")
+      .defaults(+[](CameraObj &c) {
+        c.kind = CameraKind::Spherical;
+        c.aspect = 2;
+      })
+      .ctor(+[](CameraObj &) {})
+      .attr("transform", &Camera::worldFromCamera);
 
   reg.cls<LightObj>("Light")
       .defaults(&lightDefaults<Light>)

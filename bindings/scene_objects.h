@@ -97,7 +97,7 @@ struct MeshObj {
 };
 
 struct CameraObj : Camera {
-  static constexpr const char *kLuaName = "a camera (Perspective)";
+  static constexpr const char *kLuaName = "a camera (Perspective, Orthographic or Spherical)";
   ScriptLoc loc;
 };
 

@@ -1,5 +1,6 @@
 // Pipeline: render. Turns image-plane positions into world-space camera rays
-// for the Perspective camera of lua/README.md, "Scene and camera".
+// for the cameras of lua/README.md ("Perspective", "Orthographic",
+// "Spherical").
 #pragma once
 
 #include "math/constants.h"
@@ -7,33 +8,90 @@
 #include "scene/scene.h"
 
 #include <cmath>
+#include <limits>
 
 namespace lray {
 
-/// Generates primary rays. Pixel (0,0) is the top-left of the image; the
-/// image plane spans the horizontal field of view, with height width/aspect.
+/// Generates primary rays. Pixel (0,0) is the top-left of the image.
+/// Perspective: the image plane at distance 1 spans the horizontal field of
+/// view, with height width/aspect; with an aperture, rays leave a point of
+/// the lens disc and pass through the point of the focal plane (z =
+/// focal distance) the pinhole ray meets (pbrt's thin lens). Orthographic:
+/// rays along +z from the points of a width x width/aspect rectangle.
+/// Spherical: longitude -180..180 degrees across the image (0 at its
+/// centre, along +z; +x to the right), latitude 90..-90 down it.
 class CameraRays {
 public:
   CameraRays(const Camera &camera, int imageWidth, int imageHeight)
-      : worldFromCamera_(camera.worldFromCamera), width_(imageWidth), height_(imageHeight) {
-    halfWidth_ = std::tan(camera.fov * 0.5 * kPi / 180.0);
+      : worldFromCamera_(camera.worldFromCamera), kind_(camera.kind), width_(imageWidth),
+        height_(imageHeight), aperture_(camera.aperture), focal_(camera.focalDistance) {
+    halfWidth_ = camera.kind == CameraKind::Orthographic ? camera.width / 2
+                                                         : std::tan(camera.fov * 0.5 * kPi / 180.0);
     halfHeight_ = halfWidth_ / camera.aspect;
     origin_ = worldFromCamera_.applyPoint({0, 0, 0});
   }
 
+  /// Whether rays depend on a lens sample (generate's lensU, lensV).
+  bool hasLens() const { return kind_ == CameraKind::Perspective && aperture_ > 0; }
+
   /// The ray through image position (px, py), in pixels from the top-left
-  /// corner (px in [0, width], py in [0, height]). Direction is not unit length.
-  Ray generate(double px, double py) const {
-    double cx = (2 * px / width_ - 1) * halfWidth_;
-    double cy = (1 - 2 * py / height_) * halfHeight_;
-    return {origin_, worldFromCamera_.applyVector({cx, cy, 1}), 0,
-            std::numeric_limits<double>::infinity()};
+  /// corner (px in [0, width], py in [0, height]), through lens sample
+  /// (lensU, lensV) in [0,1)^2 when hasLens(). Direction is not unit length.
+  Ray generate(double px, double py, double lensU = 0.5, double lensV = 0.5) const {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const double cx = (2 * px / width_ - 1) * halfWidth_;
+    const double cy = (1 - 2 * py / height_) * halfHeight_;
+    switch (kind_) {
+    case CameraKind::Orthographic:
+      return {worldFromCamera_.applyPoint({cx, cy, 0}), worldFromCamera_.applyVector({0, 0, 1}),
+              0, kInf};
+    case CameraKind::Spherical: {
+      const double longitude = (px / width_ - 0.5) * 2 * kPi;
+      const double latitude = (0.5 - py / height_) * kPi;
+      const double c = std::cos(latitude);
+      return {origin_,
+              worldFromCamera_.applyVector(
+                  {c * std::sin(longitude), std::sin(latitude), c * std::cos(longitude)}),
+              0, kInf};
+    }
+    case CameraKind::Perspective:
+      break;
+    }
+    if (!hasLens()) return {origin_, worldFromCamera_.applyVector({cx, cy, 1}), 0, kInf};
+    double lx, ly;
+    concentricDisc(lensU, lensV, lx, ly);
+    const Vec3 lens{aperture_ * lx, aperture_ * ly, 0};
+    const Vec3 focus{cx * focal_, cy * focal_, focal_};
+    return {worldFromCamera_.applyPoint(lens), worldFromCamera_.applyVector(focus - lens), 0,
+            kInf};
   }
 
 private:
+  /// Shirley and Chiu's concentric map of [0,1)^2 onto the unit disc: it
+  /// keeps the strata of the lens samples compact.
+  static void concentricDisc(double u, double v, double &x, double &y) {
+    const double a = 2 * u - 1, b = 2 * v - 1;
+    if (a == 0 && b == 0) {
+      x = y = 0;
+      return;
+    }
+    double r, phi;
+    if (std::abs(a) > std::abs(b)) {
+      r = a;
+      phi = kPi / 4 * (b / a);
+    } else {
+      r = b;
+      phi = kPi / 2 - kPi / 4 * (a / b);
+    }
+    x = r * std::cos(phi);
+    y = r * std::sin(phi);
+  }
+
   Transform worldFromCamera_;
+  CameraKind kind_;
   int width_, height_;
   double halfWidth_ = 1, halfHeight_ = 1;
+  double aperture_, focal_;
   Vec3 origin_;
 };
 

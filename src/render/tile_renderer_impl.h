@@ -60,6 +60,11 @@ inline uint64_t pixelPatternSeed(uint64_t stream, uint64_t pixel) {
   return mix64(mix64(stream + 0x13198a2e03707344ULL) ^ pixel);
 }
 
+/// The Owen scramble seed of a pixel's lens samples (a thin-lens camera).
+inline uint64_t lensPatternSeed(uint64_t stream, uint64_t pixel) {
+  return mix64(mix64(stream + 0x452821e638d01377ULL) ^ pixel);
+}
+
 /// Work arrays of one thread: the camera rays of one sample index over a
 /// tile's pixels, and each pixel's sums over the samples it takes.
 template <class Integ> struct TileWork {
@@ -174,7 +179,15 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
                                tile_detail::lightStratumOffset(settings.stream(), pixel);
       double px, py;
       position(x, y, pixel, s, sampler, px, py);
-      work.rays[rays] = camera.generate(px, py);
+      if (camera.hasLens()) {
+        // The lens point: the pixel's sample s in a pair of dimensions of
+        // its own, stratified over the pixel's samples like the positions.
+        double lu, lv;
+        owenSobol2D(s, tile_detail::lensPatternSeed(settings.stream(), pixel), lu, lv);
+        work.rays[rays] = camera.generate(px, py, lu, lv);
+      } else {
+        work.rays[rays] = camera.generate(px, py);
+      }
       work.pixelOf[rays] = static_cast<uint16_t>(i);
       work.sampleOf[rays] = s;
       if (++rays == tile_detail::kTilePixels) trace();

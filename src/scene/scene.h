@@ -103,11 +103,23 @@ struct Entity {
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
 };
 
-/// Perspective camera (lua/README.md, "Scene and camera"): horizontal fov in degrees, aspect = w/h
-/// of the image plane; looks down +z of its own frame, +y up.
+/// The kinds of camera (lua/README.md, "Perspective", "Orthographic",
+/// "Spherical").
+enum class CameraKind { Perspective, Orthographic, Spherical };
+
+/// The camera: it looks down +z of its own frame, +y up. Perspective: the
+/// horizontal fov in degrees, aspect = w/h of the image plane, and a thin
+/// lens of radius `aperture` (0: a pinhole) focused at `focalDistance`
+/// along the view axis. Orthographic: parallel rays over a view `width`
+/// units wide (and width / aspect high). Spherical: every direction,
+/// longitude across the image and latitude down it.
 struct Camera {
+  CameraKind kind = CameraKind::Perspective;
   double fov = 45;
   double aspect = 1.33;
+  double width = 2;
+  double aperture = 0;
+  double focalDistance = 1;
   Transform worldFromCamera;
   SourceLocation loc;
 };

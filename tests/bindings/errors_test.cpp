@@ -85,6 +85,17 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(
       runLua("local c = Perspective(0)"),
       "test.lua:1: Perspective: argument 1 expects an angle between 0 and 180 degrees, got 0");
+  EXPECT_EQ(runLua("Perspective().aperture = -0.1"),
+            "test.lua:1: Perspective: attribute 'aperture' expects a number >= 0, got -0.1");
+  EXPECT_EQ(runLua("Perspective().focal_distance = 0"),
+            "test.lua:1: Perspective: attribute 'focal_distance' expects a positive number, got 0");
+  EXPECT_EQ(runLua("local c = Orthographic(-2)"),
+            "test.lua:1: Orthographic: argument 1 expects a positive number, got -2");
+  EXPECT_EQ(runLua("local c = Orthographic(2, 0)"),
+            "test.lua:1: Orthographic: argument 2 expects a positive number, got 0");
+  EXPECT_EQ(runLua("Orthographic().fov = 30"), "test.lua:1: Orthographic: unknown attribute 'fov'");
+  EXPECT_EQ(runLua("Spherical().aperture = 1"),
+            "test.lua:1: Spherical: unknown attribute 'aperture'");
   // Whole numbers given as floats are accepted.
   EXPECT_EQ(runLua("scene_info = SceneInfo() { frames = 4.0 }"), "");
   EXPECT_EQ(num("scene_info.frames"), 4);

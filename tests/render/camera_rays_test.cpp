@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace lray {
 namespace {
 
@@ -36,6 +38,68 @@ TEST(CameraRays, TransformMovesAndTurnsTheCamera) {
   EXPECT_NEAR(r.o.x, -5, 1e-12); // Rotate(y,90) takes -z to -x
   EXPECT_NEAR(r.o.z, 0, 1e-12);
   EXPECT_NEAR(r.d.x, 1, 1e-12); // still looking at the origin
+}
+
+TEST(CameraRays, OrthographicRaysAreParallelOverItsWidth) {
+  Camera cam;
+  cam.kind = CameraKind::Orthographic;
+  cam.width = 4;
+  cam.aspect = 2;
+  CameraRays rays(cam, 200, 100);
+  EXPECT_FALSE(rays.hasLens());
+  const Ray left = rays.generate(0, 50), topRight = rays.generate(200, 0);
+  EXPECT_NEAR(left.o.x, -2, 1e-12);
+  EXPECT_NEAR(topRight.o.x, 2, 1e-12);
+  EXPECT_NEAR(topRight.o.y, 1, 1e-12); // width / aspect high, +y up
+  EXPECT_EQ(left.d, topRight.d);
+  EXPECT_EQ(left.d, Vec3(0, 0, 1));
+}
+
+TEST(CameraRays, SphericalCoversEveryDirection) {
+  Camera cam;
+  cam.kind = CameraKind::Spherical;
+  CameraRays rays(cam, 360, 180);
+  auto unit = [](const Ray &r) { return normalize(r.d); };
+  const Vec3 centre = unit(rays.generate(180, 90)), right = unit(rays.generate(270, 90)),
+             back = unit(rays.generate(0, 90)), up = unit(rays.generate(100, 0)),
+             down = unit(rays.generate(300, 180));
+  EXPECT_NEAR(centre.z, 1, 1e-12);
+  EXPECT_NEAR(right.x, 1, 1e-12); // longitude 90 degrees: +x, to the right
+  EXPECT_NEAR(back.z, -1, 1e-12);
+  EXPECT_NEAR(up.y, 1, 1e-12);
+  EXPECT_NEAR(down.y, -1, 1e-12);
+  EXPECT_EQ(rays.generate(10, 20).o, Vec3(0, 0, 0));
+}
+
+TEST(CameraRays, ThinLensRaysOfAPixelMeetOnTheFocalPlane) {
+  Camera cam;
+  cam.fov = 60;
+  cam.aspect = 1;
+  cam.aperture = 0.5;
+  cam.focalDistance = 3;
+  cam.worldFromCamera = Transform::translate({1, 2, 3});
+  CameraRays lens(cam, 64, 64);
+  ASSERT_TRUE(lens.hasLens());
+  cam.aperture = 0;
+  CameraRays pinhole(cam, 64, 64);
+  const Ray through = pinhole.generate(10.25, 40.5);
+  const Vec3 onFocalPlane = through.o + through.d * 3; // d.z = 1 in camera space
+  double spread = 0;
+  for (double u : {0.1, 0.5, 0.93})
+    for (double v : {0.05, 0.5, 0.7}) {
+      const Ray r = lens.generate(10.25, 40.5, u, v);
+      const double t = (onFocalPlane.z - r.o.z) / r.d.z;
+      const Vec3 at = r.o + r.d * t;
+      EXPECT_NEAR(at.x, onFocalPlane.x, 1e-12);
+      EXPECT_NEAR(at.y, onFocalPlane.y, 1e-12);
+      EXPECT_NEAR(r.o.z, 3, 1e-12); // the lens lies in the camera's z = 0 plane
+      EXPECT_LE(length(r.o - Vec3(1, 2, 3)), 0.5 + 1e-12);
+      spread = std::max(spread, length(r.o - Vec3(1, 2, 3)));
+    }
+  EXPECT_GT(spread, 0.3); // the samples reach across the lens
+  // The lens centre is the pinhole.
+  const Ray centre = lens.generate(10.25, 40.5, 0.5, 0.5);
+  EXPECT_EQ(centre.o, through.o);
 }
 
 } // namespace

@@ -17,6 +17,10 @@ and sorts the samples into kinds by the function (or library) they fell in:
     libm          the C maths library (called from all of the above)
     other         the rest (threads, kernel, allocation, output)
 
+With Embree it also runs build/bench_throughput on the same frame: the
+render timed on one thread, its rays recorded and traced again through
+Embree alone ("Embree alone": that time over the render's, issue 34's
+traversal share; the analytic shapes' callbacks are part of it).
 A table (markdown) goes to stdout and --out/profile.md. See README.md in
 this folder, and bench/README.md for the current figures.
 
@@ -105,6 +109,7 @@ def classify(perf_data):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lray", default=os.path.join(ROOT, "build", "lray"))
+    ap.add_argument("--bench", default=os.path.join(ROOT, "build", "bench_throughput"))
     ap.add_argument("-w", "--width", type=int, default=640)
     ap.add_argument("-H", "--height", type=int, default=360)
     ap.add_argument("-s", "--samples", type=int, default=3)
@@ -122,8 +127,8 @@ def main():
             if f.endswith(".lua") and f != "twins.lua":
                 scenes.append((f[:-4], os.path.join(ROOT, "scenes", f), ["--frames", "0"]))
     args = ["-w", str(a.width), "-H", str(a.height), "-s", str(a.samples), "-t", str(a.threads)]
-    head = "| scene | backend | render s | " + " | ".join(KINDS) + " |"
-    rows = [head, "|" + "---|" * (len(KINDS) + 3)]
+    head = "| scene | backend | render s | Embree alone | " + " | ".join(KINDS) + " |"
+    rows = [head, "|" + "---|" * (len(KINDS) + 4)]
     print(head, flush=True)
     for name, path, extra in scenes:
         for backend in a.backends:
@@ -136,7 +141,17 @@ def main():
             lray_run(a.lray, path, os.path.join(out, "img"), opts, extra, stats, perf,
                      int(before * 1000) + 5)
             shares = classify(perf)
-            row = f"| {name} | {backend} | {t['render']:.3f} | " + " | ".join(
+            alone = "-"
+            if backend == "embree" and os.path.exists(a.bench):
+                frame = extra[1] if extra[:1] == ["--frames"] else "0"
+                out_json = subprocess.run(
+                    [a.bench, path, "-w", str(a.width), "-H", str(a.height), "-s",
+                     str(a.samples), "--frame", frame, "--repeats", "3"],
+                    check=True, capture_output=True, text=True).stdout
+                replay = json.loads(out_json)
+                alone = (f"{replay['traversal_share']:.2f} "
+                         f"({replay['raw_embree_s']['total']:.3f} / {replay['render_s']:.3f} s)")
+            row = f"| {name} | {backend} | {t['render']:.3f} | {alone} | " + " | ".join(
                 f"{shares[k]:.0f} %" for k in KINDS) + " |"
             rows.append(row)
             print(row, flush=True)

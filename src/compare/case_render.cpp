@@ -40,7 +40,7 @@ std::string lastLines(const fs::path &path, size_t lines) {
 } // namespace
 
 CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::string &dir,
-                      bool forApproval) {
+                      bool forApproval, std::optional<int64_t> seed) {
   CaseRender r;
   std::error_code ec;
   fs::remove_all(dir, ec);
@@ -62,6 +62,18 @@ CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::st
       ext,  "-q"};
   args.insert(args.end(), c.options.begin(), c.options.end());
   if (forApproval) args.insert(args.end(), c.approveOptions.begin(), c.approveOptions.end());
+  if (seed) {
+    // lray takes one --seed: drop the options' own.
+    for (size_t i = 8; i < args.size();) {
+      if (args[i] == "--seed" && i + 1 < args.size())
+        args.erase(args.begin() + i, args.begin() + i + 2);
+      else if (args[i].rfind("--seed=", 0) == 0)
+        args.erase(args.begin() + i);
+      else
+        ++i;
+    }
+    args.insert(args.end(), {"--seed", std::to_string(*seed)});
+  }
   std::vector<char *> argv;
   for (std::string &a : args)
     argv.push_back(a.data());

@@ -5,6 +5,8 @@
 
 #include "compare/suite.h"
 
+#include <cstdint>
+#include <optional>
 #include <string>
 
 namespace lray::compare {
@@ -18,8 +20,9 @@ struct CaseRender {
 
 /// Renders `c`'s frame with `lray` into `dir` (emptied first; lray's output
 /// goes to dir/lray.log), in the approved image's format, with the case's
-/// options, plus its approve_options when `forApproval`.
+/// options, plus its approve_options when `forApproval`; with `seed`, at
+/// that --seed instead of any the options give.
 CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::string &dir,
-                      bool forApproval);
+                      bool forApproval, std::optional<int64_t> seed = std::nullopt);
 
 } // namespace lray::compare

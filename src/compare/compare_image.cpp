@@ -36,6 +36,10 @@ CompareImage readCompareImage(const std::string &path) {
   CompareImage image;
   image.width = spec.width;
   image.height = spec.height;
+  if (spec.format == OIIO::TypeDesc::UINT8)
+    image.quantum = 1.0 / 255;
+  else if (spec.format == OIIO::TypeDesc::UINT16)
+    image.quantum = 1.0 / 65535;
   const size_t n = image.pixels();
   // Grey images count as three equal channels.
   const int r = 0, g = std::min(1, nc - 1), b = std::min(2, nc - 1);

@@ -22,6 +22,7 @@ struct CompareImage {
   std::vector<float> rgb;      ///< 3 per pixel, row 0 at the top
   std::vector<float> variance; ///< 3 per pixel (of the pixel's value); empty if unknown
   std::vector<float> samples;  ///< 1 per pixel; empty if unknown
+  double quantum = 0;          ///< the file's step: 1/255 for 8 bits, 0 for floats
 
   size_t pixels() const { return static_cast<size_t>(width) * height; }
   bool hasVariance() const { return !variance.empty(); }

@@ -21,7 +21,7 @@ namespace lray::compare {
 namespace {
 
 struct ToolOptions {
-  std::string fresh, approved, suite, html, junit, out = "lray-compare-out", lray, name;
+  std::string fresh, approved, suite, html, junit, out = "lray-compare-out", lray, name, second;
   std::vector<std::string> only;
   std::string metric = "pixel";
   std::optional<double> threshold;
@@ -36,11 +36,15 @@ std::string besideMe(const char *program) {
   return ec ? std::string(program) : (self.parent_path() / program).string();
 }
 
-/// Compares two files into `r` (and the HTML pictures when asked).
-void compareFiles(CaseResult &r, const Criteria &criteria, const std::string &htmlDir) {
+/// Compares two files into `r` (and the HTML pictures when asked); with
+/// `second`, a second new render for the noise test.
+void compareFiles(CaseResult &r, const Criteria &criteria, const std::string &htmlDir,
+                  const std::string &second = "") {
   r.metric = criteria.metric;
   try {
     const CompareImage fresh = readCompareImage(r.fresh);
+    std::optional<CompareImage> other;
+    if (!second.empty()) other = readCompareImage(second);
     CompareImage approved;
     try {
       approved = readCompareImage(r.approved);
@@ -50,7 +54,7 @@ void compareFiles(CaseResult &r, const Criteria &criteria, const std::string &ht
                                                       : " (no approved image yet: look at the "
                                                         "new one and run with --approve)"));
     }
-    r.outcome = compareImages(fresh, approved, criteria);
+    r.outcome = compareImages(fresh, approved, criteria, other ? &*other : nullptr);
     r.status = r.outcome->pass ? CaseStatus::Pass : CaseStatus::Fail;
     r.detail = r.outcome->verdict;
     if (!htmlDir.empty()) writeCaseImages(htmlDir, r, fresh, approved);
@@ -118,7 +122,14 @@ std::vector<CaseResult> runSuite(const ToolOptions &o) {
       r.detail = "render failed: " + render.message;
     } else {
       r.fresh = render.image;
-      compareFiles(r, c.criteria, o.html);
+      std::string second;
+      if (c.secondSeed && c.criteria.metric == Metric::Noise && !o.approve) {
+        const CaseRender again = renderCase(
+            lray, c, (fs::path(o.out) / (c.name + ".second")).string(), false, c.secondSeed);
+        if (!again.ok) r.detail = "second render failed: " + again.message;
+        second = again.image;
+      }
+      if (r.detail.empty()) compareFiles(r, c.criteria, o.html, second);
       // An approved image the new one matches pixel for pixel stays as it
       // is (another PNG encoder's bytes are no change to commit).
       const bool same = r.outcome && r.outcome->maxDifference == 0;
@@ -162,6 +173,10 @@ int runCompare(int argc, const char *const *argv) {
                  "false-alarm rate 0.01)");
   app.add_option("--allowed", o.allowed, "Two images, pixel: % of pixels that may differ (0)");
   app.add_option("--name", o.name, "Two images: the case's name in reports (default: NEW's)");
+  app.add_option("--second", o.second,
+                 "Two images, noise: another render of NEW at another --seed (for files "
+                 "without variance, e.g. PNG)")
+      ->check(CLI::ExistingFile);
   app.add_option("--html", o.html, "Write an HTML report into this folder");
   app.add_option("--junit", o.junit, "Write the results as JUnit XML to this file");
   app.add_flag("--approve", o.approve, "Copy each new image over its approved one");
@@ -194,15 +209,14 @@ int runCompare(int argc, const char *const *argv) {
       // The name is a folder of the HTML report: nothing that leaves it.
       if (r.name.empty() || r.name.find_first_of("/\\") != std::string::npos ||
           r.name.front() == '.') {
-        std::fprintf(stderr, "lray-compare: --name '%s': give a plain file name\n",
-                     r.name.c_str());
+        std::fprintf(stderr, "lray-compare: --name '%s': give a plain file name\n", r.name.c_str());
         return 2;
       }
       r.fresh = o.fresh;
       r.approved = o.approved;
       title = "lray-compare";
       const auto start = std::chrono::steady_clock::now();
-      compareFiles(r, criteria, o.html);
+      compareFiles(r, criteria, o.html, o.second);
       if (o.approve && r.outcome) approve(r);
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (!o.quiet || r.status != CaseStatus::Pass) printLine(r);

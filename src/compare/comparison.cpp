@@ -69,7 +69,7 @@ std::string criteriaProblem(const Criteria &c) {
 }
 
 Outcome compareImages(const CompareImage &fresh, const CompareImage &approved,
-                      const Criteria &criteria) {
+                      const Criteria &criteria, const CompareImage *second) {
   if (fresh.width != approved.width || fresh.height != approved.height)
     throw CompareError(fmt::format("the new image is {} x {}, the approved one {} x {}",
                                    fresh.width, fresh.height, approved.width, approved.height));
@@ -131,7 +131,14 @@ Outcome compareImages(const CompareImage &fresh, const CompareImage &approved,
     figure = fmt::format("SSIM {:.5f} (at least {})", o.ssim, bound);
     break;
   case Metric::Noise: {
-    const NoiseTestResult t = noiseTest(fresh, approved, bound);
+    NoiseTestResult t;
+    if (second) {
+      CompareImage mean, reference = approved;
+      varianceFromPair(fresh, *second, reference, std::max(fresh.quantum, approved.quantum), mean);
+      t = noiseTest(mean, reference, bound);
+    } else {
+      t = noiseTest(fresh, approved, bound);
+    }
     o.pass = t.rejected == 0;
     o.noiseTests = t.tests;
     o.noiseRejected = t.rejected;

@@ -5,7 +5,8 @@
 //   psnr   PSNR (peak 1) at least `threshold` dB (default 40)
 //   ssim   mean SSIM (compare/ssim.h) at least `threshold` (default 0.99)
 //   noise  the noise-aware test (compare/noise_test.h) at false-alarm
-//          rate `threshold` (default 0.01)
+//          rate `threshold` (default 0.01), on EXR files with their
+//          variance, or on two new renders at other seeds
 // Whatever the metric, a non-finite pixel in the new image, or images of
 // two sizes, fail. RMSE, PSNR, the largest difference and SSIM are always
 // measured and reported.
@@ -53,7 +54,9 @@ struct Outcome {
   std::vector<unsigned char> flagged;
 };
 
+/// `second`, for the noise test of images without variance: another
+/// render of the new image at another seed (noise_test.h, varianceFromPair).
 Outcome compareImages(const CompareImage &fresh, const CompareImage &approved,
-                      const Criteria &criteria);
+                      const Criteria &criteria, const CompareImage *second = nullptr);
 
 } // namespace lray::compare

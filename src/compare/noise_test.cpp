@@ -31,6 +31,31 @@ double roundingVariance(double a, double b) {
 
 } // namespace
 
+void varianceFromPair(const CompareImage &a, const CompareImage &b, CompareImage &approved,
+                      double quantum, CompareImage &fresh) {
+  if (a.width != b.width || a.height != b.height || a.width != approved.width ||
+      a.height != approved.height)
+    throw CompareError("the two new renders and the approved image differ in size");
+  const size_t n = a.pixels();
+  const double rounding = quantum * quantum / 12;
+  fresh = CompareImage{};
+  fresh.width = a.width;
+  fresh.height = a.height;
+  fresh.rgb.resize(n * 3);
+  fresh.variance.resize(n * 3);
+  fresh.samples.assign(n, 2.f); // one degree of freedom
+  approved.variance.resize(n * 3);
+  approved.samples.assign(n, 2.f);
+  for (size_t k = 0; k < n * 3; ++k) {
+    const double d = static_cast<double>(a.rgb[k]) - b.rgb[k];
+    // One render's variance: E[(a - b)^2] / 2; the mean of two has half.
+    const double one = d * d / 2 + rounding;
+    fresh.rgb[k] = static_cast<float>((static_cast<double>(a.rgb[k]) + b.rgb[k]) / 2);
+    fresh.variance[k] = static_cast<float>(one / 2);
+    approved.variance[k] = static_cast<float>(one);
+  }
+}
+
 double twoSidedP(double t, double dof) {
   t = std::abs(t);
   if (!(t > 0)) return 1;
@@ -44,7 +69,8 @@ double twoSidedP(double t, double dof) {
 NoiseTestResult noiseTest(const CompareImage &fresh, const CompareImage &approved, double alpha) {
   if (!fresh.hasVariance() || !approved.hasVariance())
     throw CompareError("the noise test needs each pixel's variance: EXR files written by lray "
-                       "(-f exr), which hold Variance.R/G/B and SampleCount");
+                       "(-f exr), which hold Variance.R/G/B and SampleCount, or a second new "
+                       "render at another seed (--second, or second_seed in a suite)");
   const int w = fresh.width, h = fresh.height;
   const size_t n = fresh.pixels();
   // Per pixel and channel: difference d, its variance v, and v^2/dof summed

@@ -15,7 +15,8 @@
 // blocks, where the noise averages away. All these tests together are one
 // family: Holm-Bonferroni (1979) keeps the chance that any of them fails
 // for two renders of one picture at most alpha, whatever their dependence
-// (the blocks share pixels), and counts which ones fail.
+// (the blocks share pixels), and counts which ones fail. 8-bit files carry
+// no variance: varianceFromPair estimates it from two new renders.
 #pragma once
 
 #include "compare/compare_image.h"
@@ -41,6 +42,16 @@ struct NoiseTestResult {
 /// Tests `fresh` against `approved` at false-alarm rate `alpha`; both need
 /// their variance (CompareError otherwise) and must be the same size.
 NoiseTestResult noiseTest(const CompareImage &fresh, const CompareImage &approved, double alpha);
+
+/// For images without variance (8-bit files): the new image as the mean of
+/// two renders at other seeds, `a` and `b`, with each pixel's variance
+/// estimated from their difference (one degree of freedom per pixel; the
+/// blocks pool many), and `approved` given the variance of one render with
+/// the same settings. `quantum` is the files' step (1/255 for 8 bits): its
+/// rounding adds quantum^2/12 to each value's variance. Images must be the
+/// same size.
+void varianceFromPair(const CompareImage &a, const CompareImage &b, CompareImage &approved,
+                      double quantum, CompareImage &fresh);
 
 /// The two-sided p-value of Student's t with `dof` degrees of freedom
 /// (the normal distribution's for dof beyond 1e6).

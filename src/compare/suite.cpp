@@ -16,7 +16,7 @@ namespace {
 /// The keys of a case (and of [defaults]) and what each is.
 struct CaseFields {
   std::optional<std::string> name, scene, approved, metric;
-  std::optional<int64_t> frame;
+  std::optional<int64_t> frame, secondSeed;
   std::optional<std::vector<std::string>> options, approveOptions, backends;
   std::optional<double> threshold, allowed, timeout;
 };
@@ -64,6 +64,11 @@ public:
         auto v = node.value<int64_t>();
         if (!v || *v < 0 || *v > 9999999) fail(node, "'frame' must be a whole number >= 0");
         f.frame = *v;
+      } else if (k == "second_seed") {
+        auto v = node.value<int64_t>();
+        if (!v || *v < 0 || *v > 4294967295)
+          fail(node, "'second_seed' must be a whole number >= 0");
+        f.secondSeed = *v;
       } else if (k == "options")
         f.options = strings(node, k);
       else if (k == "approve_options")
@@ -81,7 +86,7 @@ public:
       } else
         fail(node, "unknown key '" + k +
                        "' (name, scene, approved, frame, options, approve_options, backends, "
-                       "metric, threshold, allowed, timeout)");
+                       "metric, threshold, allowed, timeout, second_seed)");
     }
     return f;
   }
@@ -138,6 +143,7 @@ public:
       c.criteria.allowedPercent = f.allowed.value_or(defaults.allowed.value_or(0));
       if (std::string why = criteriaProblem(c.criteria); !why.empty()) fail(node, why);
       c.timeoutSeconds = f.timeout.value_or(defaults.timeout.value_or(600));
+      c.secondSeed = f.secondSeed ? f.secondSeed : defaults.secondSeed;
       const auto backends = f.backends ? f.backends : defaults.backends;
       std::vector<SuiteCase> expanded;
       if (!backends || backends->empty()) {

@@ -15,6 +15,8 @@
 //   metric = "pixel"                 # pixel | psnr | ssim | noise
 //   threshold = 0.004                # the metric's bound (comparison.h)
 //   allowed = 0.0                    # pixel: % of pixels that may differ
+//   second_seed = 7                  # noise, without EXR: a second render
+//                                    # at this --seed gives the variance
 //   timeout = 600                    # seconds before the render is stopped
 //
 // A key the format does not know, a value of the wrong type, or a case
@@ -23,6 +25,8 @@
 
 #include "compare/comparison.h"
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +41,7 @@ struct SuiteCase {
   std::vector<std::string> approveOptions; ///< added for --approve
   Criteria criteria;
   double timeoutSeconds = 600;
+  std::optional<int64_t> secondSeed; ///< render again at this --seed (noise test)
 };
 
 /// Reads a suite file (TOML); throws CompareError naming the file and line.

@@ -79,6 +79,14 @@ threshold = 0.01
 approve_options = ["--seed", "9"]
 
 [[case]]
+name = "noisy_png"
+scene = "noisy.lua"
+approved = "approved/noisy.png"
+metric = "noise"
+second_seed = 5           # 8 bits, no variance: a second render gives it
+approve_options = ["--seed", "9"]
+
+[[case]]
 name = "broken"
 scene = "broken.lua"
 approved = "approved/broken.png"
@@ -110,17 +118,20 @@ protected:
 } // namespace
 
 TEST_F(CompareTool, ApprovesPassesFailsAfterAChangeAndReports) {
-  ToolRun r =
-      compare(dir, "--suite suite.toml --approve --only ok.embree --only ok.kdtree --only noisy");
+  ToolRun r = compare(dir, "--suite suite.toml --approve --only ok.embree --only ok.kdtree "
+                          "--only noisy --only noisy_png");
   ASSERT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_TRUE(fs::exists(dir / "approved/ok.png"));
   EXPECT_TRUE(fs::exists(dir / "approved/noisy.exr"));
+  EXPECT_TRUE(fs::exists(dir / "approved/noisy.png"));
 
   r = compare(dir, "--suite suite.toml --junit results.xml --html report");
   EXPECT_EQ(r.status, 1); // broken and endless
   EXPECT_NE(r.out.find("PASS  ok.embree"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("PASS  ok.kdtree"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("PASS  noisy"), std::string::npos) << r.out << r.err; // seed 0 vs 9
+  EXPECT_NE(r.out.find("PASS  noisy:"), std::string::npos) << r.out << r.err; // seed 0 vs 9
+  EXPECT_NE(r.out.find("PASS  noisy_png:"), std::string::npos) << r.out << r.err;
+  EXPECT_TRUE(fs::exists(dir / "lray-compare-out/noisy_png.second/frames/noisy.png"));
   // lray's own message, with the script's file and line.
   EXPECT_NE(r.err.find("ERROR broken: render failed: lray exited with status 1"), std::string::npos)
       << r.err;
@@ -131,11 +142,11 @@ TEST_F(CompareTool, ApprovesPassesFailsAfterAChangeAndReports) {
             std::string::npos)
       << r.err;
   const std::string xml = slurp(dir / "results.xml");
-  EXPECT_NE(xml.find("tests=\"5\" failures=\"0\" errors=\"2\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("tests=\"6\" failures=\"0\" errors=\"2\""), std::string::npos) << xml;
   EXPECT_NE(xml.find("<testcase classname=\"suite\" name=\"ok.kdtree\""), std::string::npos);
   EXPECT_NE(xml.find("<error message=\"render failed"), std::string::npos);
   const std::string html = slurp(dir / "report/index.html");
-  EXPECT_NE(html.find("suite: 3 of 5 cases pass"), std::string::npos);
+  EXPECT_NE(html.find("suite: 4 of 6 cases pass"), std::string::npos);
   EXPECT_NE(html.find("src=\"noisy/difference.png\""), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "report/ok.embree/new.png"));
   EXPECT_TRUE(fs::exists(dir / "report/noisy/approved.png"));

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <random>
 
 using namespace lray::compare;
@@ -106,4 +107,42 @@ TEST(NoiseTest, ImagesWithoutVarianceAreAnError) {
   CompareImage a = simulate(1), b = simulate(2);
   b.variance.clear();
   EXPECT_THROW(compareImages(a, b, noise(0.01)), CompareError);
+}
+
+namespace {
+
+/// `simulate`'s image as an 8-bit file holds it: clamped, rounded, no
+/// variance.
+CompareImage eightBit(CompareImage im) {
+  for (float &v : im.rgb) v = std::round(std::clamp(v, 0.f, 1.f) * 255) / 255;
+  im.variance.clear();
+  im.samples.clear();
+  im.quantum = 1.0 / 255;
+  return im;
+}
+
+} // namespace
+
+TEST(NoiseTestFromTwoRenders, PassesAtTheStatedRateAndFailsAChange) {
+  // 8-bit images: the variance comes from two new renders at other seeds.
+  int failures = 0;
+  for (uint32_t i = 0; i < 200; ++i) {
+    const CompareImage a = eightBit(simulate(3 * i + 1, 64, 48, 1, 8)),
+                       b = eightBit(simulate(3 * i + 2, 64, 48, 1, 8)),
+                       approved = eightBit(simulate(3 * i + 3, 64, 48, 1, 8));
+    failures += !compareImages(a, approved, noise(0.05), &b).pass;
+  }
+  std::printf("%d of 200 8-bit triples fail at alpha 0.05\n", failures);
+  EXPECT_LE(failures, 19);
+  const CompareImage approved = eightBit(simulate(3)), a = eightBit(simulate(1)),
+                     b = eightBit(simulate(2));
+  EXPECT_TRUE(compareImages(a, approved, noise(0.01), &b).pass);
+  const CompareImage brighter = eightBit(simulate(1, 64, 48, 1.03)),
+                     brighter2 = eightBit(simulate(2, 64, 48, 1.03));
+  EXPECT_FALSE(compareImages(brighter, approved, noise(0.01), &brighter2).pass);
+  const CompareImage patched = eightBit(simulate(1, 64, 48, 1, 16, 0.3, 0.3)),
+                     patched2 = eightBit(simulate(2, 64, 48, 1, 16, 0.3, 0.3));
+  EXPECT_FALSE(compareImages(patched, approved, noise(0.01), &patched2).pass);
+  // Without a second render, 8-bit files cannot be tested for noise.
+  EXPECT_THROW(compareImages(a, approved, noise(0.01)), CompareError);
 }

@@ -444,6 +444,56 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
     for (size_t i = 0; i < count; ++i) found[i] = unbounded_.intersect(rays[i], hits[i], found[i]);
 }
 
+double EmbreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery query) const {
+  std::vector<Hit> scratch(8);
+  const auto start = std::chrono::steady_clock::now();
+  const bool packets = query == RawQuery::ClosestPackets || query == RawQuery::OcclusionPackets;
+  const bool closest = query == RawQuery::Closest || query == RawQuery::ClosestPackets;
+  for (size_t base = 0; base < count; base += packets ? 8 : 1) {
+    QueryContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.rays = rays + base;
+    ctx.hits = scratch.data();
+    double bestT[8];
+    ctx.bestT = bestT;
+    if (!packets) {
+      RTCRayHit rh;
+      toEmbree(rays[base], frameOrigin_, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x,
+               rh.ray.dir_y, rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
+      rh.ray.time = 0;
+      rh.ray.mask = 0xFFFFFFFFu;
+      rh.ray.id = 0;
+      rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      bestT[0] = rays[base].tMax;
+      if (closest) rtcIntersect1(root_, &ctx.base, &rh);
+      else rtcOccluded1(root_, &ctx.base, &rh.ray);
+      continue;
+    }
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const size_t lanes = std::min<size_t>(8, count - base);
+    alignas(32) int valid[8];
+    alignas(32) RTCRayHit8 rh;
+    for (unsigned i = 0; i < 8; ++i) {
+      valid[i] = i < lanes ? -1 : 0;
+      const Ray &r = rays[base + (i < lanes ? i : 0)];
+      toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i],
+               rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+      rh.ray.time[i] = 0;
+      rh.ray.mask[i] = 0xFFFFFFFFu;
+      rh.ray.id[i] = i;
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      bestT[i] = r.tMax;
+    }
+    if (closest) rtcIntersect8(valid, root_, &ctx.base, &rh);
+    else rtcOccluded8(valid, root_, &ctx.base, &rh.ray);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
   for (size_t base = 0; base < count; base += 8) {
     size_t lanes = std::min<size_t>(8, count - base);

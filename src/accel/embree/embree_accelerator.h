@@ -41,6 +41,13 @@ public:
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
   AcceleratorStats stats() const override { return stats_; }
 
+  /// For bench/throughput: how long Embree alone takes for these queries
+  /// (seconds, this thread): the same calls as above (single rays, or
+  /// 8-wide coherent packets), with the context the analytic shapes'
+  /// callbacks need, but no mesh hit filled, no plane tested, nothing kept.
+  enum class RawQuery { Closest, ClosestPackets, Occlusion, OcclusionPackets };
+  double rawSeconds(const Ray *rays, size_t count, RawQuery query) const;
+
   /// Per analytic entity: what its Embree callbacks need.
   struct ShapeRef {
     const Entity *entity = nullptr;

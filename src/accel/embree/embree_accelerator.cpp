@@ -336,9 +336,12 @@ void EmbreeAccelerator::build() {
                        ownedBytes;
 }
 
-bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
-  RTCRayHit rh;
-  toEmbree(ray, frameOrigin_, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
+namespace {
+
+/// `ray` as Embree's single ray, in the float frame about `origin`, with
+/// no hit yet.
+void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
+  toEmbree(ray, origin, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
            rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
   rh.ray.time = 0;
   rh.ray.mask = 0xFFFFFFFFu;
@@ -346,6 +349,32 @@ bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+/// rays[0, lanes) as an 8-wide packet (lanes beyond repeat ray 0, invalid),
+/// with each ray's tMax in bestT for the analytic shapes' callbacks.
+void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh, int *valid,
+               double *bestT) {
+  for (unsigned i = 0; i < 8; ++i) {
+    valid[i] = i < lanes ? -1 : 0;
+    const Ray &r = rays[i < lanes ? i : 0];
+    toEmbree(r, origin, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+             rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+    rh.ray.time[i] = 0;
+    rh.ray.mask[i] = 0xFFFFFFFFu;
+    rh.ray.id[i] = i;
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    bestT[i] = r.tMax;
+  }
+}
+
+} // namespace
+
+bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
+  RTCRayHit rh;
+  toRayHit1(ray, frameOrigin_, rh);
   double bestT = ray.tMax;
   QueryContext ctx;
   rtcInitIntersectContext(&ctx.base);
@@ -403,20 +432,7 @@ void EmbreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       const size_t lanes = std::min<size_t>(8, chunkEnd - base);
       alignas(32) int valid[8];
       double bestT[8];
-      for (unsigned i = 0; i < 8; ++i) {
-        valid[i] = i < lanes ? -1 : 0;
-        const Ray &r = rays[base + (i < lanes ? i : 0)];
-        toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i],
-                 rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i],
-                 rh.ray.tfar[i]);
-        rh.ray.time[i] = 0;
-        rh.ray.mask[i] = 0xFFFFFFFFu;
-        rh.ray.id[i] = i;
-        rh.ray.flags[i] = 0;
-        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        bestT[i] = r.tMax;
-      }
+      toRayHit8(rays + base, lanes, frameOrigin_, rh, valid, bestT);
       QueryContext ctx;
       rtcInitIntersectContext(&ctx.base);
       ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -458,14 +474,7 @@ double EmbreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery que
     ctx.bestT = bestT;
     if (!packets) {
       RTCRayHit rh;
-      toEmbree(rays[base], frameOrigin_, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x,
-               rh.ray.dir_y, rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
-      rh.ray.time = 0;
-      rh.ray.mask = 0xFFFFFFFFu;
-      rh.ray.id = 0;
-      rh.ray.flags = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      toRayHit1(rays[base], frameOrigin_, rh);
       bestT[0] = rays[base].tMax;
       if (closest) rtcIntersect1(root_, &ctx.base, &rh);
       else rtcOccluded1(root_, &ctx.base, &rh.ray);
@@ -475,19 +484,7 @@ double EmbreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery que
     const size_t lanes = std::min<size_t>(8, count - base);
     alignas(32) int valid[8];
     alignas(32) RTCRayHit8 rh;
-    for (unsigned i = 0; i < 8; ++i) {
-      valid[i] = i < lanes ? -1 : 0;
-      const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, frameOrigin_, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i],
-               rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
-      rh.ray.time[i] = 0;
-      rh.ray.mask[i] = 0xFFFFFFFFu;
-      rh.ray.id[i] = i;
-      rh.ray.flags[i] = 0;
-      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-      bestT[i] = r.tMax;
-    }
+    toRayHit8(rays + base, lanes, frameOrigin_, rh, valid, bestT);
     if (closest) rtcIntersect8(valid, root_, &ctx.base, &rh);
     else rtcOccluded8(valid, root_, &ctx.base, &rh.ray);
   }

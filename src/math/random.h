@@ -22,7 +22,13 @@ class Sampler {
 public:
   Sampler() = default;
   Sampler(uint64_t frame, uint64_t pixel, uint64_t sample)
-      : key_(mix64(mix64(mix64(frame + 0x9e3779b97f4a7c15ULL) ^ pixel) ^ sample)) {}
+      : Sampler(pixelKey(frame, pixel), sample) {}
+  /// The same stream from its pixel's part of the key (pixelKey), which
+  /// the tile loop computes once per pixel, not once per sample.
+  Sampler(uint64_t pixelKey, uint64_t sample) : key_(mix64(pixelKey ^ sample)) {}
+  static uint64_t pixelKey(uint64_t frame, uint64_t pixel) {
+    return mix64(mix64(frame + 0x9e3779b97f4a7c15ULL) ^ pixel);
+  }
 
   /// Stratified dimensions from here on, `index` being the sample's index
   /// among its pixel's and `pixelSeed` the pixel's (the same for all its

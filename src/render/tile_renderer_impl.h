@@ -80,6 +80,11 @@ template <class Integ> struct TileWork {
   std::array<Color, kTilePixels> squares; ///< the sum of the samples' squares
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
+  /// Per tile pixel, what its samples' streams share (computed once per
+  /// pixel): the Sampler key's pixel part, the Owen scramble seed of its
+  /// positions, the offset of its light strata.
+  std::array<uint64_t, kTilePixels> samplerKey, pattern;
+  std::array<uint32_t, kTilePixels> stratumOffset;
   static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
 
@@ -141,6 +146,11 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
     if (work.first[i] < end) {
       work.pixelList[sampling++] = static_cast<uint16_t>(i);
       begin = std::min(begin, work.first[i]);
+      const uint64_t pixel = static_cast<uint64_t>(rect.y(i)) * settings.width + rect.x(i);
+      work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
+      work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
+      if (spreadLight)
+        work.stratumOffset[i] = tile_detail::lightStratumOffset(settings.stream(), pixel);
     }
   }
   size_t rays = 0;
@@ -168,20 +178,17 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const size_t i = work.pixelList[k];
       if (work.first[i] > s) continue;
       const int x = rect.x(i), y = rect.y(i);
-      const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
       Sampler &sampler = work.samplers[rays];
-      sampler = Sampler(settings.stream(), pixel, s);
+      sampler = Sampler(work.samplerKey[i], s);
       // The path tracer's choices, stratified over the pixel's samples.
-      if (settings.integrator == IntegratorKind::Path)
-        sampler.stratify(s, tile_detail::pixelPatternSeed(settings.stream(), pixel));
-      if (spreadLight)
-        sampler.lightStratum = (pairedStrata ? s >> 1 : s) +
-                               tile_detail::lightStratumOffset(settings.stream(), pixel);
+      if (settings.integrator == IntegratorKind::Path) sampler.stratify(s, work.pattern[i]);
+      if (spreadLight) sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
       double px, py;
-      position(x, y, pixel, s, sampler, px, py);
+      position(x, y, work.pattern[i], s, sampler, px, py);
       if (camera.hasLens()) {
         // The lens point: the pixel's sample s in a pair of dimensions of
         // its own, stratified over the pixel's samples like the positions.
+        const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
         double lu, lv;
         owenSobol2D(s, tile_detail::lensPatternSeed(settings.stream(), pixel), lu, lv);
         work.rays[rays] = camera.generate(px, py, lu, lv);
@@ -305,10 +312,11 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
-  // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s.
-  auto sobolPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &, double &px,
+  // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s
+  // (`pattern`: the pixel's scramble seed, pixelPatternSeed).
+  auto sobolPosition = [&](int x, int y, uint64_t pattern, uint32_t s, Sampler &, double &px,
                            double &py) {
-    owenSobol2D(s, pixelPatternSeed(settings.stream(), pixel), px, py);
+    owenSobol2D(s, pattern, px, py);
     px += x;
     py += y;
   };
@@ -321,14 +329,14 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     // random position; figures in bench/HISTORY.md).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
-    auto fixedPosition = [&](int x, int y, uint64_t pixel, uint32_t s, Sampler &sampler,
+    auto fixedPosition = [&](int x, int y, uint64_t pattern, uint32_t s, Sampler &sampler,
                              double &px, double &py) {
       if (n == 1) {
         px = x + 0.5;
         py = y + 0.5;
         return;
       }
-      sobolPosition(x, y, pixel, s, sampler, px, py);
+      sobolPosition(x, y, pattern, s, sampler, px, py);
     };
     forEachTile<Integ>(
         settings, perThread, progress,

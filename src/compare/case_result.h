@@ -25,4 +25,13 @@ struct CaseResult {
 /// Text safe inside XML/HTML element content and attribute values.
 std::string escapeMarkup(const std::string &text);
 
+/// Whether `name` can name a case: it becomes a folder of the renders and
+/// of the HTML report, so nothing that leaves them ('/', '\\', '..', a
+/// leading '.').
+bool plainCaseName(const std::string &name);
+
+/// Writes a report file whole or not at all (render/output_file.h), its
+/// folder created first; throws CompareError naming the path and why.
+void writeReportFile(const std::string &path, const std::string &text);
+
 } // namespace lray::compare

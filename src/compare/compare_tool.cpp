@@ -207,8 +207,7 @@ int runCompare(int argc, const char *const *argv) {
       CaseResult r;
       r.name = o.name.empty() ? fs::path(o.fresh).stem().string() : o.name;
       // The name is a folder of the HTML report: nothing that leaves it.
-      if (r.name.empty() || r.name.find_first_of("/\\") != std::string::npos ||
-          r.name.front() == '.') {
+      if (!plainCaseName(r.name)) {
         std::fprintf(stderr, "lray-compare: --name '%s': give a plain file name\n", r.name.c_str());
         return 2;
       }

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 namespace fs = std::filesystem;
 
@@ -148,15 +147,7 @@ void writeHtmlReport(const std::string &dir, const std::string &title,
   html += "<script>for(const i of document.querySelectorAll('img.scaled')){i.onload=function()"
           "{this.style.width=Math.min(640,2*this.naturalWidth)+'px';};if(i.complete)i.onload();}"
           "</script>\n</body></html>\n";
-  fs::create_directories(dir);
-  const fs::path target = fs::path(dir) / "index.html";
-  const fs::path tmp = fs::path(dir) / ".index.html.tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << html;
-    if (!out.flush()) throw CompareError("cannot write '" + target.string() + "'");
-  }
-  fs::rename(tmp, target);
+  writeReportFile((fs::path(dir) / "index.html").string(), html);
 }
 
 } // namespace lray::compare

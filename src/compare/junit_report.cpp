@@ -1,9 +1,10 @@
 #include "compare/junit_report.h"
 
+#include "render/output_file.h"
+
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 
 namespace fs = std::filesystem;
 
@@ -39,6 +40,21 @@ std::string escapeMarkup(const std::string &text) {
   return out;
 }
 
+bool plainCaseName(const std::string &name) {
+  return !name.empty() && name.find_first_of("/\\") == std::string::npos &&
+         name.find("..") == std::string::npos && name.front() != '.';
+}
+
+void writeReportFile(const std::string &path, const std::string &text) {
+  try {
+    const fs::path target(path);
+    if (target.has_parent_path()) fs::create_directories(target.parent_path());
+    writeOutputFile(path, "report", text);
+  } catch (const std::exception &e) {
+    throw CompareError(e.what());
+  }
+}
+
 void writeJunit(const std::string &path, const std::string &suite,
                 const std::vector<CaseResult> &results) {
   size_t failures = 0, errors = 0;
@@ -71,17 +87,7 @@ void writeJunit(const std::string &path, const std::string &suite,
     }
   }
   xml += "  </testsuite>\n</testsuites>\n";
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const fs::path tmp = target.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << xml;
-    if (!out.flush()) throw CompareError("cannot write '" + path + "'");
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) throw CompareError("cannot write '" + path + "': " + ec.message());
+  writeReportFile(path, xml);
 }
 
 } // namespace lray::compare

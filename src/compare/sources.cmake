@@ -10,7 +10,7 @@ add_library(lray_compare STATIC
 target_include_directories(lray_compare PUBLIC ${CMAKE_SOURCE_DIR}/src)
 target_link_libraries(lray_compare
   PUBLIC fmt::fmt
-  PRIVATE PkgConfig::OIIO PkgConfig::TOMLPP Boost::headers CLI11::CLI11 lray_warnings)
+  PRIVATE lray_core PkgConfig::OIIO PkgConfig::TOMLPP Boost::headers CLI11::CLI11 lray_warnings)
 target_link_libraries(lray_compare PUBLIC lray_sanitize)
 
 add_executable(lray-compare src/app/compare_main.cpp)

@@ -1,5 +1,7 @@
 #include "compare/suite.h"
 
+#include "compare/case_result.h"
+
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
@@ -125,8 +127,7 @@ public:
       if (!f.name || !f.scene || !f.approved) fail(node, "a case needs name, scene and approved");
       SuiteCase c;
       c.name = *f.name;
-      if (c.name.empty() || c.name.find_first_of("/\\") != std::string::npos ||
-          c.name.find("..") != std::string::npos || c.name.front() == '.')
+      if (!plainCaseName(c.name))
         fail(node, "case name '" + c.name + "': give a plain file name (no '/', '..')");
       c.scene = resolve(*f.scene);
       c.approved = resolve(*f.approved);

@@ -121,7 +121,9 @@ void registerSceneClasses(Registry &reg) {
       .attr("integrator", &SceneInfo::integrator, integratorName)
       .attr("max_depth", &SceneInfo::maxDepth, positiveInteger)
       .attr("start_clock", &SceneInfo::startClock)
-      .attr("end_clock", &SceneInfo::endClock);
+      .attr("end_clock", &SceneInfo::endClock)
+      .attr("shutter", &SceneInfo::shutter, unitInterval)
+      .attr("motion_steps", &SceneInfo::motionSteps, motionStepCount);
 
   reg.cls<CameraObj>("Perspective")
       .ctor(+[](CameraObj &c, std::optional<double> fov, std::optional<double> aspect) {

@@ -22,6 +22,12 @@ inline const char *nonNegativeNumber(const double &v) {
 inline const char *unitInterval(const double &v) {
   return v >= 0 && v <= 1 ? nullptr : "a number between 0 and 1";
 }
+/// The most motion steps (lua/README.md, "Motion blur"): scene(clock) runs
+/// this many times a frame at most.
+inline constexpr int kMaxMotionSteps = 16;
+inline const char *motionStepCount(const int &v) {
+  return v >= 2 && v <= kMaxMotionSteps ? nullptr : "an integer from 2 to 16";
+}
 inline const char *rightAngleOrLess(const double &v) {
   return v >= 0 && v <= 90 ? nullptr : "an angle between 0 and 90 degrees";
 }

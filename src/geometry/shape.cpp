@@ -19,8 +19,8 @@ namespace {
 // Inlined into every shape's instantiation: as a call of its own, its
 // result went through memory in pieces wider than they were written (a
 // store-forwarding stall per shape test).
-[[gnu::always_inline]] inline Ray objectRay(const Entity &entity, const Ray &worldRay) {
-  const Mat4 &inv = entity.worldFromObject.inverseMatrix();
+[[gnu::always_inline]] inline Ray objectRay(const Transform &xf, const Ray &worldRay) {
+  const Mat4 &inv = xf.inverseMatrix();
   return {affinePoint(inv, worldRay.o), affineVector(inv, worldRay.d), worldRay.tMin,
           worldRay.tMax};
 }
@@ -70,10 +70,10 @@ WideVec wideObjectSpace(const Transform &xf, const Vec3 &w, bool point) {
 
 /// The refined t of a hit found at `t` (world-ray units) on part `part`.
 template <class S>
-double refineHitT(const S &shape, const Entity &entity, const Ray &worldRay, double shift,
-                  double t, int part) {
-  WideVec o = wideObjectSpace(entity.worldFromObject, worldRay.o, true);
-  WideVec d = wideObjectSpace(entity.worldFromObject, worldRay.d, false);
+double refineHitT(const S &shape, const Transform &xf, const Ray &worldRay, double shift, double t,
+                  int part) {
+  WideVec o = wideObjectSpace(xf, worldRay.o, true);
+  WideVec d = wideObjectSpace(xf, worldRay.d, false);
   // Re-origin at the same point as the double test, for conditioning.
   const Wide sh = shift;
   o = {o.x + sh * d.x, o.y + sh * d.y, o.z + sh * d.z};
@@ -86,11 +86,11 @@ double refineHitT(const S &shape, const Entity &entity, const Ray &worldRay, dou
 /// The hit of an object-space test's result `oh` on `ray` (the shifted
 /// object ray of `worldRay`, re-origined by `shift`).
 template <class S>
-bool fillAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
+bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, const Ray &worldRay,
                   const Ray &ray, double shift, const ObjectHit &oh, Hit &hit) {
   ObjectSurface s = shape.surface(ray, oh);
-  const Transform &xf = entity.worldFromObject;
   hit.t = oh.t + shift;
+  hit.time = worldRay.time;
   hit.entity = entityIndex;
   hit.primitive = 0;
   hit.pObject = s.p;
@@ -98,7 +98,7 @@ bool fillAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex, co
   hit.ng = unitVector(affineNormal(xf.inverseMatrix(), s.n));
   hit.ns = hit.ng;
   if (std::fabs(dot(hit.ng, worldRay.d)) < kRefineBelowCosine * length(worldRay.d)) {
-    double t = refineHitT(shape, entity, worldRay, shift, hit.t, oh.part);
+    double t = refineHitT(shape, xf, worldRay, shift, hit.t, oh.part);
     // The refined t decides against tMax (exclusive), so a query bounded by
     // an earlier refined hit of this shape (a backend visiting it twice)
     // does not accept the same point again with its unrefined t. Below
@@ -113,14 +113,25 @@ bool fillAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex, co
 }
 
 template <class S>
-bool intersectAnalytic(const S &shape, const Entity &entity, uint32_t entityIndex,
+bool intersectAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex,
                        const Ray &worldRay, Hit &hit) {
-  Ray farRay = objectRay(entity, worldRay);
+  Ray farRay = objectRay(xf, worldRay);
   double shift = shape.originShift(farRay);
   Ray ray = shifted(farRay, shift);
   ObjectHit oh;
   if (!shape.intersect(ray, oh)) return false;
-  return fillAnalytic(shape, entity, entityIndex, worldRay, ray, shift, oh, hit);
+  return fillAnalytic(shape, xf, entityIndex, worldRay, ray, shift, oh, hit);
+}
+
+/// f(placement) with the entity's placement at the ray's time: its own
+/// transform, or (moving) the one computed for that time. A Transform is
+/// hundreds of bytes: a static entity's test constructs none.
+template <class F>
+[[gnu::always_inline]] inline auto withPlacement(const Entity &entity, const Ray &ray, F &&f) {
+  if (!entity.motion) [[likely]]
+    return f(entity.worldFromObject);
+  const Transform moved = entity.motion->at(ray.time);
+  return f(moved);
 }
 
 } // namespace
@@ -150,15 +161,25 @@ bool shapeBounded(const Entity &entity) {
       entity.shape);
 }
 
-Bounds3 shapeWorldBounds(const Entity &entity) {
+Bounds3 shapeWorldBounds(const Entity &entity, double t0, double t1) {
   return std::visit(
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
         // Meshes: meshObjectBounds + the backend's instance transform.
-        if constexpr (std::is_same_v<S, Csg>) return s.tree ? s.tree->bounds : Bounds3();
-        else if constexpr (kAnalyticShape<S>)
-          return padded(s.worldBounds(entity.worldFromObject.matrix()));
-        else return Bounds3();
+        if constexpr (std::is_same_v<S, Csg>) {
+          return s.tree ? s.tree->bounds : Bounds3();
+        } else if constexpr (kAnalyticShape<S>) {
+          if (!entity.motion) return padded(s.worldBounds(entity.worldFromObject.matrix()));
+          if constexpr (S::kBounded) {
+            const Bounds3 objectBox = s.worldBounds(Mat4::identity());
+            return entity.motion->sweptBounds(objectBox, t0, t1, [&](const Transform &xf) {
+              return padded(s.worldBounds(xf.matrix()));
+            });
+          }
+          return padded(s.worldBounds(entity.worldFromObject.matrix())); // infinite anyway
+        } else {
+          return Bounds3();
+        }
       },
       entity.shape);
 }
@@ -174,14 +195,27 @@ Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromOb
   return {world.lo - pad, world.hi + pad};
 }
 
+Bounds3 meshWorldBounds(const Entity &entity, double t0, double t1) {
+  if (!entity.mesh) return {};
+  const Bounds3 objectBox =
+      entity.vertexMotion ? entity.vertexMotion->bounds() : meshObjectBounds(*entity.mesh);
+  return entity.motion ? entity.motion->sweptBounds(objectBox, t0, t1)
+                       : transformedBounds(objectBox, entity.worldFromObject);
+}
+
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
   return std::visit(
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Csg>) return intersectCsg(s, entityIndex, worldRay, hit);
-        else if constexpr (kAnalyticShape<S>)
-          return intersectAnalytic(s, entity, entityIndex, worldRay, hit);
-        else return false;
+        if constexpr (std::is_same_v<S, Csg>) {
+          return intersectCsg(s, entityIndex, worldRay, hit);
+        } else if constexpr (kAnalyticShape<S>) {
+          return withPlacement(entity, worldRay, [&](const Transform &xf) {
+            return intersectAnalytic(s, xf, entityIndex, worldRay, hit);
+          });
+        } else {
+          return false;
+        }
       },
       entity.shape);
 }
@@ -193,9 +227,11 @@ bool occludedShape(const Entity &entity, const Ray &worldRay) {
         if constexpr (std::is_same_v<S, Csg>) {
           return occludedCsg(s, worldRay);
         } else if constexpr (kAnalyticShape<S>) {
-          Ray ray = objectRay(entity, worldRay);
-          ObjectHit oh;
-          return s.intersect(shifted(ray, s.originShift(ray)), oh);
+          return withPlacement(entity, worldRay, [&](const Transform &xf) {
+            Ray ray = objectRay(xf, worldRay);
+            ObjectHit oh;
+            return s.intersect(shifted(ray, s.originShift(ray)), oh);
+          });
         } else {
           return false;
         }
@@ -207,7 +243,7 @@ int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shi
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity, worldRay);
+          Ray farRay = objectRay(entity.worldFromObject, worldRay);
           shift = s.originShift(farRay);
           return s.spans(shifted(farRay, shift), out);
         } else {
@@ -223,10 +259,10 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity, worldRay);
+          Ray farRay = objectRay(entity.worldFromObject, worldRay);
           double shift = s.originShift(farRay);
-          return fillAnalytic(s, entity, entityIndex, worldRay, shifted(farRay, shift),
-                              shift, ObjectHit{tObject, part}, hit);
+          return fillAnalytic(s, entity.worldFromObject, entityIndex, worldRay,
+                              shifted(farRay, shift), shift, ObjectHit{tObject, part}, hit);
         } else {
           return false;
         }

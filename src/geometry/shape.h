@@ -15,16 +15,18 @@
 namespace lray {
 
 /// Tight world-space bounds of an analytic entity (every shape but Mesh;
-/// infinite for the unbounded ones).
-Bounds3 shapeWorldBounds(const Entity &entity);
+/// infinite for the unbounded ones); a moving one's over the shutter times
+/// [t0, t1] (Entity::motion).
+Bounds3 shapeWorldBounds(const Entity &entity, double t0 = 0, double t1 = 1);
 
 /// False for shapes without finite bounds (Plane): the backends keep those
 /// out of their trees and test them on every ray (accel/unbounded_shapes.h).
 bool shapeBounded(const Entity &entity);
 
 /// Closest intersection of a world-space ray with an analytic entity, with t
-/// in (ray.tMin, ray.tMax). On success fills every field of `hit` (entity =
-/// entityIndex) and returns true.
+/// in (ray.tMin, ray.tMax), the entity placed where it is at the ray's time.
+/// On success fills every field of `hit` (entity = entityIndex) and returns
+/// true.
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit);
 
 /// Any intersection with t in (ray.tMin, ray.tMax).
@@ -42,6 +44,11 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
 
 /// Object-space bounds of a mesh (positions as stored).
 Bounds3 meshObjectBounds(const MeshData &mesh);
+
+/// World bounds of a mesh entity over the shutter times [t0, t1]: its
+/// vertices at every motion step (Entity::vertexMotion) placed by its
+/// transform, or swept by its motion (Entity::motion).
+Bounds3 meshWorldBounds(const Entity &entity, double t0 = 0, double t1 = 1);
 
 /// World bounds of an object-space box placed by `worldFromObject`: its
 /// eight corners transformed, widened by a few ulps for the rounding of the

@@ -54,9 +54,13 @@ Bounds3 meshObjectBounds(const MeshData &mesh) {
 // (identity-placed meshes, frame at the origin): a change here must be made
 // there too, in the same operation order; the FillTriangleHits test compares
 // the two bit for bit.
-void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
-                     double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
-                     Hit &hit) {
+namespace {
+
+/// fillTriangleHit with the entity placed by `xf` (its own transform, or a
+/// moving one's at the ray's time).
+void fillPlacedTriangleHit(const Entity &entity, const Transform &xf, uint32_t entityIndex,
+                           uint32_t triangle, double t, double b1, double b2, const Ray &worldRay,
+                           const Vec3 &frameOrigin, Hit &hit) {
   const MeshData &mesh = *entity.mesh;
   // Corner indices. A hit is usually a cache miss on these: read the
   // 12-byte triangleIndices entry when the corners carry nothing more
@@ -78,12 +82,17 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
     }
     uv = tri.uv;
   }
-  const Transform &xf = entity.worldFromObject;
   // Most meshes are placed by their vertices: skip the products (an
   // identity product gives the same values).
   const bool identity = xf.isIdentity();
   Vec3 p0 = toVec3(mesh.positions[v[0]]), p1 = toVec3(mesh.positions[v[1]]),
        p2 = toVec3(mesh.positions[v[2]]);
+  const MeshMotion *deform = entity.vertexMotion.get();
+  if (deform) { // moving vertices: where they are at the ray's time
+    p0 = deform->position(v[0], worldRay.time);
+    p1 = deform->position(v[1], worldRay.time);
+    p2 = deform->position(v[2], worldRay.time);
+  }
   // The backends' tests differ in precision (Embree's float barycentrics
   // are off by ~1e-7 of the triangle's size: on the 200-unit gallery floor
   // a checker edge moved by 1e-5), so the barycentrics and t are solved
@@ -135,16 +144,22 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   if (!identity) ng = affineNormal(inv, ng);
 
   // Vertex normals: by normal index, else per vertex index, else none.
-  const Vec3f *n0 = nullptr, *n1 = nullptr, *n2 = nullptr;
+  int64_t normalAt[3] = {-1, -1, -1};
   if (n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
-    n0 = &mesh.normals[n[0]], n1 = &mesh.normals[n[1]], n2 = &mesh.normals[n[2]];
+    for (int k = 0; k < 3; ++k)
+      normalAt[k] = n[k];
   } else if (mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty()) {
-    n0 = &mesh.normals[v[0]], n1 = &mesh.normals[v[1]], n2 = &mesh.normals[v[2]];
+    for (int k = 0; k < 3; ++k)
+      normalAt[k] = v[k];
   }
   Vec3 nw;
   double nwLen2 = 0;
-  if (n0) {
-    nw = toVec3(*n0) * b0 + toVec3(*n1) * b1 + toVec3(*n2) * b2;
+  if (normalAt[0] >= 0) {
+    Vec3 c[3];
+    for (int k = 0; k < 3; ++k)
+      c[k] = deform ? deform->normal(static_cast<uint32_t>(normalAt[k]), worldRay.time)
+                    : toVec3(mesh.normals[static_cast<size_t>(normalAt[k])]);
+    nw = c[0] * b0 + c[1] * b1 + c[2] * b2;
     if (!identity) nw = affineNormal(inv, nw);
     nwLen2 = dot(nw, nw);
   }
@@ -165,6 +180,7 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   if (haveNormal && entity.smooth) ns = nw * (1 / std::sqrt(nwLen2));
 
   hit.t = t;
+  hit.time = worldRay.time;
   hit.entity = entityIndex;
   hit.primitive = triangle;
   hit.pObject = pObject;
@@ -193,6 +209,20 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
                           hitPointErrorFromMagnitudes(xf, objectMagnitude, worldMagnitude, scale,
                                                       kDoubleRoundoff, kAnalyticErrorFactor));
   }
+}
+
+} // namespace
+
+void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triangle, double t,
+                     double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin, Hit &hit) {
+  if (entity.motion) [[unlikely]] { // where it is at the ray's time
+    const Transform moved = entity.motion->at(worldRay.time);
+    fillPlacedTriangleHit(entity, moved, entityIndex, triangle, t, b1, b2, worldRay, frameOrigin,
+                          hit);
+    return;
+  }
+  fillPlacedTriangleHit(entity, entity.worldFromObject, entityIndex, triangle, t, b1, b2, worldRay,
+                        frameOrigin, hit);
 }
 
 } // namespace lray

@@ -205,6 +205,7 @@ const Vec3f kNoNormal{0, 0, 0};
   for (int i = 0; i < count; ++i) {
     Hit &hit = *q[i]->hit;
     hit.t = t[i];
+    hit.time = q[i]->ray->time;
     hit.entity = q[i]->entityIndex;
     hit.primitive = q[i]->triangle;
     hit.pObject = {pObject.x[i], pObject.y[i], pObject.z[i]};
@@ -255,7 +256,7 @@ void fillTriangleHits(const TriangleHitQuery *queries, size_t count, const Vec3 
   };
   for (size_t i = 0; i < count; ++i) {
     const TriangleHitQuery &q = queries[i];
-    if (frameAtOrigin && q.entity->worldFromObject.isIdentity()) {
+    if (frameAtOrigin && q.entity->worldFromObject.isIdentity() && !q.entity->moves()) {
       lanes[used++] = &q;
       if (used == kLanes) flush();
     } else {

@@ -16,9 +16,10 @@ struct Hit {
   Vec3 p;                  ///< hit point, world space
   Vec3 pObject;            ///< hit point, entity object space (before worldFromObject)
   Vec3 ng; ///< geometric normal, world space, unit, outward (not flipped to face the ray)
-  Vec3 ns;                 ///< shading normal, world space, unit, outward (same side as ng)
-  double u = 0, v = 0;     ///< surface parameterisation (lua/README.md, "Entities")
-  double pError = 0;       ///< conservative bound on the absolute error of p, per component
+  Vec3 ns; ///< shading normal, world space, unit, outward (same side as ng)
+  double u = 0, v = 0; ///< surface parameterisation (lua/README.md, "Entities")
+  double pError = 0;   ///< conservative bound on the absolute error of p, per component
+  float time = 0;      ///< the time of the ray that found it (Ray::time)
 };
 
 } // namespace lray

@@ -94,4 +94,13 @@ inline void owenSobol2D(uint32_t index, uint64_t seed, double &x, double &y) {
   y = nestedScramble(sobolSecond(i), sy) * 0x1.0p-32;
 }
 
+/// Sample `index` of a one-dimensional stratified sequence in [0, 1) whose
+/// scramble seed is `seed` (the first coordinate of owenSobol2D): every
+/// prefix of 2^m samples has one in each interval of length 2^-m.
+inline double owenSobol1D(uint32_t index, uint64_t seed) {
+  using namespace owen_detail;
+  const uint32_t i = nestedScramble(index, static_cast<uint32_t>(seed >> 32));
+  return reverseBits(laineKarras(i, static_cast<uint32_t>(mix64(seed)))) * 0x1.0p-32;
+}
+
 } // namespace lray

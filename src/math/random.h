@@ -58,6 +58,9 @@ public:
   /// samples share the cells out (LightSampling::Spread; the integrator
   /// reduces it modulo the share count). Unused otherwise.
   uint32_t lightStratum = 0;
+  /// The sample's time in the open shutter (Ray::time of its camera ray):
+  /// moving lights are sampled where they are then.
+  float time = 0;
 
 private:
   double nextStratified() {

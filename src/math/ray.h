@@ -14,6 +14,10 @@ struct Ray {
   Vec3 d;
   double tMin = 0;
   double tMax = std::numeric_limits<double>::infinity();
+  /// When in the open shutter the ray is traced, in [0, 1] (lua/README.md,
+  /// "Motion blur"); 0 without motion blur. Secondary rays keep their
+  /// camera ray's time.
+  float time = 0;
 
   Vec3 at(double t) const { return o + d * t; }
 };

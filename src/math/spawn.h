@@ -28,13 +28,13 @@ inline Vec3 offsetRayOrigin(const Hit &hit, const Vec3 &dir) {
 
 /// A secondary ray leaving the surface in direction `dir`.
 inline Ray spawnRay(const Hit &hit, const Vec3 &dir) {
-  return {offsetRayOrigin(hit, dir), dir, 0, std::numeric_limits<double>::infinity()};
+  return {offsetRayOrigin(hit, dir), dir, 0, std::numeric_limits<double>::infinity(), hit.time};
 }
 
 /// A shadow ray from the surface that ends at `target` (t in (0, 1)).
 inline Ray spawnRayTo(const Hit &hit, const Vec3 &target) {
   Vec3 o = offsetRayOrigin(hit, target - hit.p);
-  return {o, target - o, 0, 1};
+  return {o, target - o, 0, 1, hit.time};
 }
 
 } // namespace lray

@@ -49,7 +49,9 @@ public:
   Vec3 applyVector(const Vec3 &v) const;
   /// Transforms a normal by the inverse transpose (result not normalised).
   Vec3 applyNormal(const Vec3 &n) const;
-  Ray applyRay(const Ray &r) const { return {applyPoint(r.o), applyVector(r.d), r.tMin, r.tMax}; }
+  Ray applyRay(const Ray &r) const {
+    return {applyPoint(r.o), applyVector(r.d), r.tMin, r.tMax, r.time};
+  }
 
   const Mat4 &matrix() const { return m_; }
   const Mat4 &inverseMatrix() const { return inv_; }

@@ -3,6 +3,7 @@
 // "Spherical").
 #pragma once
 
+#include "math/affine.h"
 #include "math/constants.h"
 #include "math/ray.h"
 #include "scene/scene.h"
@@ -19,54 +20,83 @@ namespace lray {
 /// focal distance) the pinhole ray meets (pbrt's thin lens). Orthographic:
 /// rays along +z from the points of a width x width/aspect rectangle.
 /// Spherical: longitude -180..180 degrees across the image (0 at its
-/// centre, along +z; +x to the right), latitude 90..-90 down it.
+/// centre, along +z; +x to the right), latitude 90..-90 down it. A moving
+/// camera (Camera::motion) is placed where it is at the ray's time.
 class CameraRays {
 public:
-  CameraRays(const Camera &camera, int imageWidth, int imageHeight)
+  /// `timed`: the shutter is open (Scene::motionSteps): rays get times.
+  CameraRays(const Camera &camera, int imageWidth, int imageHeight, bool timed = false)
       : worldFromCamera_(camera.worldFromCamera), kind_(camera.kind), width_(imageWidth),
-        height_(imageHeight), aperture_(camera.aperture), focal_(camera.focalDistance) {
+        height_(imageHeight), aperture_(camera.aperture), focal_(camera.focalDistance),
+        motion_(camera.motion.get()), timed_(timed) {
     halfWidth_ = camera.kind == CameraKind::Orthographic ? camera.width / 2
                                                          : std::tan(camera.fov * 0.5 * kPi / 180.0);
     halfHeight_ = halfWidth_ / camera.aspect;
     origin_ = worldFromCamera_.applyPoint({0, 0, 0});
   }
 
+  /// Whether rays get a time in the shutter (generate's time).
+  bool timed() const { return timed_; }
+
   /// Whether rays depend on a lens sample (generate's lensU, lensV).
   bool hasLens() const { return kind_ == CameraKind::Perspective && aperture_ > 0; }
 
   /// The ray through image position (px, py), in pixels from the top-left
   /// corner (px in [0, width], py in [0, height]), through lens sample
-  /// (lensU, lensV) in [0,1)^2 when hasLens(). Direction is not unit length.
-  Ray generate(double px, double py, double lensU = 0.5, double lensV = 0.5) const {
+  /// (lensU, lensV) in [0,1)^2 when hasLens(), at shutter time `time`.
+  /// Direction is not unit length.
+  Ray generate(double px, double py, double lensU = 0.5, double lensV = 0.5, float time = 0) const {
+    if (!motion_) [[likely]]
+      return generateWith(worldFromCamera_, origin_, px, py, lensU, lensV, time);
+    return generateMoving(px, py, lensU, lensV, time);
+  }
+
+private:
+  /// generate for a moving camera (Camera::motion): placed at `time`.
+  [[gnu::noinline]] Ray generateMoving(double px, double py, double lensU, double lensV,
+                                       float time) const {
+    const MatrixPlacement moved{motion_->matrixAt(time)};
+    return generateWith(moved, moved.applyPoint({0, 0, 0}), px, py, lensU, lensV, time);
+  }
+
+  /// A placement by a bare matrix (a moving camera's, at one time).
+  struct MatrixPlacement {
+    Mat4 m;
+    Vec3 applyPoint(const Vec3 &p) const { return affinePoint(m, p); }
+    Vec3 applyVector(const Vec3 &v) const { return affineVector(m, v); }
+  };
+
+  template <class Placement>
+  Ray generateWith(const Placement &worldFromCamera, const Vec3 &origin, double px, double py,
+                   double lensU, double lensV, float time) const {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     const double cx = (2 * px / width_ - 1) * halfWidth_;
     const double cy = (1 - 2 * py / height_) * halfHeight_;
     switch (kind_) {
     case CameraKind::Orthographic:
-      return {worldFromCamera_.applyPoint({cx, cy, 0}), worldFromCamera_.applyVector({0, 0, 1}),
-              0, kInf};
+      return {worldFromCamera.applyPoint({cx, cy, 0}), worldFromCamera.applyVector({0, 0, 1}), 0,
+              kInf, time};
     case CameraKind::Spherical: {
       const double longitude = (px / width_ - 0.5) * 2 * kPi;
       const double latitude = (0.5 - py / height_) * kPi;
       const double c = std::cos(latitude);
-      return {origin_,
-              worldFromCamera_.applyVector(
+      return {origin,
+              worldFromCamera.applyVector(
                   {c * std::sin(longitude), std::sin(latitude), c * std::cos(longitude)}),
-              0, kInf};
+              0, kInf, time};
     }
     case CameraKind::Perspective:
       break;
     }
-    if (!hasLens()) return {origin_, worldFromCamera_.applyVector({cx, cy, 1}), 0, kInf};
+    if (!hasLens()) return {origin, worldFromCamera.applyVector({cx, cy, 1}), 0, kInf, time};
     double lx, ly;
     concentricDisc(lensU, lensV, lx, ly);
     const Vec3 lens{aperture_ * lx, aperture_ * ly, 0};
     const Vec3 focus{cx * focal_, cy * focal_, focal_};
-    return {worldFromCamera_.applyPoint(lens), worldFromCamera_.applyVector(focus - lens), 0,
-            kInf};
+    return {worldFromCamera.applyPoint(lens), worldFromCamera.applyVector(focus - lens), 0, kInf,
+            time};
   }
 
-private:
   /// Shirley and Chiu's concentric map of [0,1)^2 onto the unit disc: it
   /// keeps the strata of the lens samples compact.
   static void concentricDisc(double u, double v, double &x, double &y) {
@@ -93,6 +123,8 @@ private:
   double halfWidth_ = 1, halfHeight_ = 1;
   double aperture_, focal_;
   Vec3 origin_;
+  const TransformMotion *motion_;
+  bool timed_;
 };
 
 } // namespace lray

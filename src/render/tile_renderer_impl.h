@@ -65,6 +65,27 @@ inline uint64_t lensPatternSeed(uint64_t stream, uint64_t pixel) {
   return mix64(mix64(stream + 0x452821e638d01377ULL) ^ pixel);
 }
 
+/// The Owen scramble seed of a pixel's times in the shutter (motion blur).
+inline uint64_t timePatternSeed(uint64_t stream, uint64_t pixel) {
+  return mix64(mix64(stream + 0xbe5466cf34e90c6cULL) ^ pixel);
+}
+
+/// The camera ray of sample s of pixel (x, y) through image position (px,
+/// py) with its lens point and its time in the shutter: the pixel's sample
+/// s in dimensions of their own, stratified over the pixel's samples like
+/// the positions. The time goes to the sample's `sampler` too (moving
+/// lights). A call of its own: the pinhole, unblurred loop stays small.
+[[gnu::noinline]] inline Ray lensOrTimedRay(const CameraRays &camera, const FrameSettings &settings,
+                                            int x, int y, uint32_t s, double px, double py,
+                                            Sampler &sampler) {
+  const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
+  double lu = 0.5, lv = 0.5;
+  if (camera.hasLens()) owenSobol2D(s, lensPatternSeed(settings.stream(), pixel), lu, lv);
+  if (camera.timed())
+    sampler.time = static_cast<float>(owenSobol1D(s, timePatternSeed(settings.stream(), pixel)));
+  return camera.generate(px, py, lu, lv, sampler.time);
+}
+
 /// Work arrays of one thread: the camera rays of one sample index over a
 /// tile's pixels, and each pixel's sums over the samples it takes.
 template <class Integ> struct TileWork {
@@ -185,16 +206,10 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       if (spreadLight) sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
       double px, py;
       position(x, y, work.pattern[i], s, sampler, px, py);
-      if (camera.hasLens()) {
-        // The lens point: the pixel's sample s in a pair of dimensions of
-        // its own, stratified over the pixel's samples like the positions.
-        const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
-        double lu, lv;
-        owenSobol2D(s, tile_detail::lensPatternSeed(settings.stream(), pixel), lu, lv);
-        work.rays[rays] = camera.generate(px, py, lu, lv);
-      } else {
+      if (camera.hasLens() || camera.timed()) [[unlikely]]
+        work.rays[rays] = tile_detail::lensOrTimedRay(camera, settings, x, y, s, px, py, sampler);
+      else
         work.rays[rays] = camera.generate(px, py);
-      }
       work.pixelOf[rays] = static_cast<uint16_t>(i);
       work.sampleOf[rays] = s;
       if (++rays == tile_detail::kTilePixels) trace();
@@ -308,7 +323,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const bool pairedStrata = settings.adaptive;
   const Integ integrator(scene, accel, images,
                          {shares, settings.shadowSkips, settings.maxDepth, settings.clamp});
-  const CameraRays camera(scene.camera, settings.width, settings.height);
+  const CameraRays camera(scene.camera, settings.width, settings.height, scene.motionSteps >= 2);
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };

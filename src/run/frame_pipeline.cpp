@@ -2,6 +2,8 @@
 #include "run/frame_pipeline.h"
 
 #include "bindings/scene_script.h"
+#include "render/backends.h"
+#include "run/scene_motion.h"
 #include "scene/scene_checks.h"
 #include "shading/image_cache.h"
 #include "render/backends.h"
@@ -11,6 +13,17 @@
 
 namespace lray {
 
+Scene buildFrameScene(SceneScript &script, const SceneInfo &info, int frame, int &calls) {
+  const std::vector<double> clocks = motionClocks(info, frame);
+  calls = static_cast<int>(clocks.size());
+  if (clocks.size() == 1) return script.buildFrame(clocks[0]);
+  std::vector<Scene> steps;
+  steps.reserve(clocks.size());
+  for (double clock : clocks)
+    steps.push_back(script.buildFrame(clock));
+  return foldMotionSteps(std::move(steps), clocks, info.integrator == "path");
+}
+
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
                        std::string_view backend, ImageCache &images, FrameStats &stats,
                        const ProgressFn &progress, const FrameSettings &sampling) {
@@ -18,7 +31,7 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   stats.clock = info.clockForFrame(frame);
 
   auto t0 = std::chrono::steady_clock::now();
-  Scene scene = script.buildFrame(stats.clock);
+  Scene scene = buildFrameScene(script, info, frame, stats.sceneCalls);
   stats.sceneSeconds = secondsSince(t0);
   stats.entities = scene.entities.size();
   stats.lights = scene.lights.size();

@@ -14,6 +14,11 @@ namespace lray {
 class SceneScript;
 class ImageCache;
 
+/// Frame `frame`'s scene: scene(clock) at the frame's clock, or, with motion
+/// blur (info.shutter > 0), at each of its motion steps folded into one
+/// (scene/scene_motion.h). `calls`: how many times scene(clock) ran.
+Scene buildFrameScene(SceneScript &script, const SceneInfo &info, int frame, int &calls);
+
 /// Renders 0-based frame `frame` of `script` at the size and sampling of
 /// `info` with the backend named `backend` (render/backends.h backends()),
 /// filling `stats` (times, rays, backend figures, sampling). `sampling`

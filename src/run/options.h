@@ -37,6 +37,8 @@ struct Options {
   std::optional<double> noiseThreshold;       ///< adaptive sampling (0: fixed)
   std::optional<std::string> integrator;      ///< --integrator: "whitted" or "path"
   std::optional<int> maxDepth;                ///< --max-depth
+  std::optional<double> shutter;              ///< --shutter
+  std::optional<int> motionSteps;             ///< --motion-steps
   std::optional<double> clamp;                ///< --clamp: path samples' largest component
   std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel
   double timeLimit = 0;                       ///< seconds per frame; 0: none

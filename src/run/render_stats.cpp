@@ -97,16 +97,17 @@ std::string toJson(const RunStats &s) {
   for (size_t i = 0; i < s.frames.size(); ++i) {
     const FrameStats &f = s.frames[i];
     out += i ? ",\n    " : "\n    ";
-    out += fmt::format(
-        R"({{"frame": {}, "clock": {}, "file": {}, "entities": {}, "lights": {}, )"
-        R"("primitives": {}, "instances": {}, )"
-        R"("accel_memory_bytes": {}, "times": {{"scene": {:.6f}, "images": {:.6f}, )"
-        R"("build": {:.6f}, "render": {:.6f}, "write": {:.6f}}}, )"
-        R"("rays": {}, "non_finite_samples": {}, "sampling": {}}})",
-        f.frame, f.clock, jsonString(f.file), f.entities, f.lights, f.accel.primitives,
-        f.accel.instances, f.accel.memoryBytes, f.sceneSeconds, f.imageSeconds,
-        f.accel.buildSeconds, f.renderSeconds, f.writeSeconds, raysJson(f.rays), f.rays.nonFinite,
-        frameSamplingJson(f, s.width, s.height));
+    out +=
+        fmt::format(R"({{"frame": {}, "clock": {}, "scene_calls": {}, "file": {}, "entities": {}, )"
+                    R"("lights": {}, )"
+                    R"("primitives": {}, "instances": {}, )"
+                    R"("accel_memory_bytes": {}, "times": {{"scene": {:.6f}, "images": {:.6f}, )"
+                    R"("build": {:.6f}, "render": {:.6f}, "write": {:.6f}}}, )"
+                    R"("rays": {}, "non_finite_samples": {}, "sampling": {}}})",
+                    f.frame, f.clock, f.sceneCalls, jsonString(f.file), f.entities, f.lights,
+                    f.accel.primitives, f.accel.instances, f.accel.memoryBytes, f.sceneSeconds,
+                    f.imageSeconds, f.accel.buildSeconds, f.renderSeconds, f.writeSeconds,
+                    raysJson(f.rays), f.rays.nonFinite, frameSamplingJson(f, s.width, s.height));
   }
   out += s.frames.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return out;

@@ -17,7 +17,10 @@ struct FrameStats {
   int frame = 0;
   double clock = 0;
   std::string file;
-  double sceneSeconds = 0;  ///< scene(clock) + conversion to the scene model
+  double sceneSeconds = 0; ///< scene(clock) + conversion to the scene model
+  /// How many times scene(clock) ran for the frame: its motion steps with
+  /// motion blur (lua/README.md, "Motion blur"), else 1.
+  int sceneCalls = 1;
   double imageSeconds = 0;  ///< loading texture images not yet cached
   double renderSeconds = 0; ///< tiles: tracing and shading
   double writeSeconds = 0;

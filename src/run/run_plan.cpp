@@ -94,6 +94,8 @@ std::vector<PlanSetting> RunPlan::settings() const {
       {"seed", std::to_string(frameSettings.seed)},
       {"light_sampling",
        jsonString(frameSettings.lightSampling == LightSampling::Spread ? "spread" : "all")},
+      {"shutter", number(info.shutter)},
+      {"motion_steps", std::to_string(info.motionSteps), info.shutter > 0},
       {"format", jsonString(formatExtension(format))},
       {"linear", linear ? "true" : "false"},
       {"aovs", frameSettings.aovs ? "true" : "false"},

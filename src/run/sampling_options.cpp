@@ -78,6 +78,15 @@ public:
                  "VALUE (removes fireflies, darkens what is truly brighter; default: none)")
         ->type_name("VALUE")
         ->check(positive);
+    g.add_option("--shutter", o.shutter,
+                 "Motion blur: the fraction (0 to 1) of the interval between two frames' clocks "
+                 "the shutter is open, from the frame's clock on (overrides scene_info; 0: none)")
+        ->type_name("FRACTION")
+        ->check(CLI::Range(0.0, 1.0));
+    g.add_option("--motion-steps", o.motionSteps,
+                 "Motion blur: how many clock values in the open shutter scene(clock) is "
+                 "called at, 2 to 16 (default 2; overrides scene_info)")
+        ->check(CLI::Range(2, 16));
     g.add_flag("--no-shadow-skips", o.noShadowSkips,
                "Trace every shadow ray, even where nothing lies between a tile and a light "
                "(the same image; for measuring)");
@@ -122,6 +131,8 @@ SceneInfo effectiveSceneInfo(const SceneInfo &fromScript, const Options &options
   if (options.samples) info.samples = *options.samples;
   if (options.integrator) info.integrator = *options.integrator;
   if (options.maxDepth) info.maxDepth = *options.maxDepth;
+  if (options.shutter) info.shutter = *options.shutter;
+  if (options.motionSteps) info.motionSteps = *options.motionSteps;
   validateSceneInfo(info, options.maxPixelCount(), options.scenePath);
   if (options.lastFrame && *options.lastFrame >= info.frames)
     throw SceneError(fmt::format("--frames {}:{}: the scene has {} frame{} (0 to {})",

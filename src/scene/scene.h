@@ -6,16 +6,23 @@
 #include "geometry/shapes/shape_list.h"
 #include "math/color.h"
 #include "math/transform.h"
+#include "math/transform_motion.h"
 #include "math/vec3.h"
 #include "scene/mesh_data.h"
+#include "scene/mesh_motion.h"
+#include "shading/lights/light_list.h"
+#include "shading/pigments/pigment_list.h"
+#include "shading/pigments/texture_map.h"
 #include "util/memory_budget.h"
 #include "util/scene_error.h"
 #include "shading/pigments/texture_map.h"
 #include "shading/pigments/pigment_list.h"
 #include "shading/lights/light_list.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,6 +39,19 @@ struct SceneInfo {
   int maxDepth = 8; ///< path: the most scattering events of a path
   double startClock = 0;
   double endClock = 1;
+  /// Motion blur (lua/README.md, "Motion blur"): the fraction of the
+  /// interval between two frames' clocks the shutter stays open, from the
+  /// frame's clock on (0: no blur), and how many clock values in that
+  /// interval scene(clock) is called at.
+  double shutter = 0;
+  int motionSteps = 2;
+
+  /// The clock interval between frame i and the next: the whole clock
+  /// range for a single frame.
+  double frameInterval() const {
+    const double span = endClock - startClock;
+    return frames <= 1 ? span : span / (frames - 1);
+  }
 
   /// Clock value for 0-based frame i (lua/README.md, "The scene file"):
   /// finite for any finite clocks, even where their difference is not.
@@ -98,6 +118,17 @@ struct Entity {
   uint32_t texture = 0; ///< index into Scene::textures
   MeshDataPtr mesh;     ///< Mesh only
   SourceLocation loc;
+  /// Set when the entity moves while the shutter is open: worldFromObject
+  /// at each motion step (worldFromObject itself is step 0's). Every ray
+  /// meets the entity where it is at the ray's time.
+  std::shared_ptr<const TransformMotion> motion;
+  /// Set when a Mesh's vertices move while the shutter is open.
+  std::shared_ptr<const MeshMotion> vertexMotion;
+
+  /// Whether anything about it moves while the shutter is open.
+  bool moves() const { return motion || vertexMotion; }
+  /// The placement at `time` (Ray::time).
+  Transform placementAt(double time) const { return motion ? motion->at(time) : worldFromObject; }
 
   ShapeKind kind() const { return static_cast<ShapeKind>(shape.index()); }
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
@@ -122,6 +153,8 @@ struct Camera {
   double focalDistance = 1;
   Transform worldFromCamera;
   SourceLocation loc;
+  /// Set when the camera moves while the shutter is open (as Entity::motion).
+  std::shared_ptr<const TransformMotion> motion;
 };
 
 /// One frame's complete scene.
@@ -130,6 +163,12 @@ struct Scene {
   Camera camera;
   std::vector<Entity> entities;
   std::vector<SceneLight> lights; ///< shading/lights/light_list.h
+  /// Per light, parallel to `lights` (or empty when none moves): its
+  /// motion, or none.
+  std::vector<std::shared_ptr<const LightMotion>> lightMotion;
+  /// Motion steps of the frame's shutter (0: no motion blur; rays keep
+  /// time 0).
+  int motionSteps = 0;
   std::vector<Texture> textures; ///< at least one (the default) when entities exist
   std::vector<Pigment> pigments;
   std::vector<ImageRef> images;

@@ -21,8 +21,9 @@ namespace integrator_detail {
 /// The emitting lights of `scene`, prepared for sampling.
 inline std::vector<LightSampler> prepareLights(const Scene &scene) {
   std::vector<LightSampler> lights;
-  for (const SceneLight &light : scene.lights) {
-    LightSampler s = prepareLight(light);
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const LightMotion *motion = i < scene.lightMotion.size() ? scene.lightMotion[i].get() : nullptr;
+    LightSampler s = prepareLight(scene.lights[i], motion);
     if (lightEmits(s)) lights.push_back(s); // a dark light: dropped here, not per sample
   }
   return lights;

@@ -74,12 +74,15 @@ ShadowShafts::ShadowShafts(const Scene &scene)
   if (scene.entities.size() > kMaxEntities) return;
   for (uint32_t index = 0; index < scene.entities.size(); ++index) {
     const Entity &e = scene.entities[index];
+    // A moving plane would need a shaft test over the shutter: none then.
+    if (e.motion && std::holds_alternative<Plane>(e.shape)) return;
     if (e.isMesh()) {
       if (!e.mesh) continue; // nothing to hit
-      const Bounds3 box = widened(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
+      // A moving mesh: where it may be while the shutter is open.
+      const Bounds3 box = widened(meshWorldBounds(e));
       if (box.empty()) continue;
-      meshes_.push_back(
-          {box, e.worldFromObject.isIdentity() ? 0.0 : kFloatPad * maxAbs(box, frameOrigin_)});
+      const bool identity = e.worldFromObject.isIdentity() && !e.moves();
+      meshes_.push_back({box, identity ? 0.0 : kFloatPad * maxAbs(box, frameOrigin_)});
     } else if (shapeBounded(e)) {
       const Bounds3 box = shapeWorldBounds(e);
       if (box.empty()) continue; // nothing to hit (a CSG of disjoint solids)

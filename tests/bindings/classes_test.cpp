@@ -66,6 +66,8 @@ const AttributeCase kAttributes[] = {
     {"SceneInfo()", "samples", "1", "3"},
     {"SceneInfo()", "start_clock", "0", "0.5"},
     {"SceneInfo()", "end_clock", "1", "2"},
+    {"SceneInfo()", "shutter", "0", "0.5"},
+    {"SceneInfo()", "motion_steps", "2", "5"},
     {"Scene()", "background_color", "black", "red"},
     {"Perspective()", "transform", "Identity()", "Translate(x)"},
     {"Perspective()", "fov", "45", "60"},

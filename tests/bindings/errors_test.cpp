@@ -96,6 +96,14 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(runLua("Orthographic().fov = 30"), "test.lua:1: Orthographic: unknown attribute 'fov'");
   EXPECT_EQ(runLua("Spherical().aperture = 1"),
             "test.lua:1: Spherical: unknown attribute 'aperture'");
+  EXPECT_EQ(runLua("SceneInfo().shutter = 1.5"),
+            "test.lua:1: SceneInfo: attribute 'shutter' expects a number between 0 and 1, got 1.5");
+  EXPECT_EQ(runLua("SceneInfo().motion_steps = 1"),
+            "test.lua:1: SceneInfo: attribute 'motion_steps' expects an integer from 2 to 16, "
+            "got 1");
+  EXPECT_EQ(runLua("SceneInfo().motion_steps = 17"),
+            "test.lua:1: SceneInfo: attribute 'motion_steps' expects an integer from 2 to 16, "
+            "got 17");
   // Whole numbers given as floats are accepted.
   EXPECT_EQ(runLua("scene_info = SceneInfo() { frames = 4.0 }"), "");
   EXPECT_EQ(num("scene_info.frames"), 4);

@@ -44,6 +44,8 @@ const SettingPair kRenderSettings[] = {
     {"--integrator", "", "--integrator path"},
     {"--max-depth", "--integrator path", "--integrator path --max-depth 1"},
     {"--clamp", "--integrator path", "--integrator path --clamp 0.05"},
+    {"--shutter", "", "--shutter 0.5"},
+    {"--motion-steps", "--shutter 0.5", "--shutter 0.5 --motion-steps 5"},
     {"--linear", "", "--linear"},
     {"--aovs", "-f exr", "-f exr --aovs"},
     {"--no-shadow-skips", "", "--no-shadow-skips"},
@@ -63,12 +65,12 @@ const std::set<std::string> kNotRenderSettings = {
 };
 
 // Two spheres under an area light over a checkered floor: every sampling
-// choice shows in some pixel.
+// choice shows in some pixel. One moves along a curve (motion blur).
 const char *kScene = R"(
 scene_info = SceneInfo() { image_width = 16, image_height = 12, samples = 1 }
 function scene(clock)
   local s = Scene() { camera = Perspective(45, 16/12) { transform = Translate(-6*z) } }
-  s:add_entity(Sphere(Translate(Vector(-0.6, 0, 0)) * Scale(0.7, 0.7, 0.7)))
+  s:add_entity(Sphere(Translate(Vector(-0.6 + clock * clock, 0, 0)) * Scale(0.7, 0.7, 0.7)))
   s:add_entity(Sphere(Translate(Vector(0.8, 0.2, 1))) {
     texture = Texture() { pigment = CheckerPigment3D() {
       pigment1 = ColorPigment(Color(1, 0, 0)), pigment2 = ColorPigment(Color(0, 0, 1)) } } })

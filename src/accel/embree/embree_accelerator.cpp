@@ -5,7 +5,16 @@
 //  - one instance per mesh entity (geometry ID = entity index) of a
 //    triangle scene built once per distinct MeshData over shared buffers;
 //    a mesh whose only user has the identity transform is attached
-//    directly instead (same ID), saving the instance level on every ray.
+//    directly instead (same ID), saving the instance level on every ray;
+//  - when entities move while the shutter is open (Entity::motion), one
+//    more user geometry holding them with a time step per motion step
+//    (Embree's motion blur: its bounds at each step, the ray's time). A
+//    moving mesh is traced there in its own triangle scene (one whose
+//    vertices move has vertex buffers per step, blended by Embree), the ray
+//    taken into object space by the mesh's transform at its time in double.
+//    Embree's own instance motion is not used: its slerp approximates acos
+//    and sin in single precision, and its instances would not be where the
+//    kd-tree and the hit records put them.
 // Queries carry the caller's double-precision rays in an extended
 // RTCIntersectContext, so analytic shapes are intersected exactly as the
 // kd-tree does and the callback's Hit is the one returned (no recomputation).
@@ -69,6 +78,38 @@ void toEmbree(const Ray &r, const Vec3 &frame, float &ox, float &oy, float &oz, 
   tfar = roundUp(r.tMax);
 }
 
+/// `ray` as Embree's single ray, in the float frame about `origin`, with
+/// no hit yet.
+void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
+  toEmbree(ray, origin, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
+           rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
+  rh.ray.time = ray.time;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+/// rays[0, lanes) as an 8-wide packet (lanes beyond repeat ray 0, invalid),
+/// with each ray's tMax in bestT for the analytic shapes' callbacks.
+void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh, int *valid,
+               double *bestT) {
+  for (unsigned i = 0; i < 8; ++i) {
+    valid[i] = i < lanes ? -1 : 0;
+    const Ray &r = rays[i < lanes ? i : 0];
+    toEmbree(r, origin, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+             rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
+    rh.ray.time[i] = r.time;
+    rh.ray.mask[i] = 0xFFFFFFFFu;
+    rh.ray.id[i] = i;
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    bestT[i] = r.tMax;
+  }
+}
+
 } // namespace
 
 /// Embree callbacks. None of them throws (the shape code does not) and none
@@ -104,7 +145,13 @@ struct EmbreeCallbacks {
 
   static void intersect(const RTCIntersectFunctionNArguments *args) {
     const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
-    const EmbreeAccelerator::ShapeRef &shape = self->shapeRefs_[args->primID];
+    intersectShapeLanes(args, self->shapeRefs_[args->primID]);
+  }
+
+  /// The analytic entity `shape` for each valid lane (the shared shape
+  /// code, with the caller's double ray).
+  static void intersectShapeLanes(const RTCIntersectFunctionNArguments *args,
+                                  const EmbreeAccelerator::ShapeRef &shape) {
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
@@ -133,9 +180,100 @@ struct EmbreeCallbacks {
     }
   }
 
+  /// Moving entities: bounds of time step `timeStep` that hold the entity
+  /// over both segments next to it, so that Embree's linear blend of two
+  /// neighbouring steps' bounds holds it over the segment between them.
+  static void movingBounds(const RTCBoundsFunctionArguments *args) {
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    const Entity &e = *self->movingRefs_[args->primID].entity;
+    const double segments = static_cast<double>(self->scene_.motionSteps - 1);
+    const double t0 = std::max(0.0, (args->timeStep - 1.0) / segments);
+    const double t1 = std::min(1.0, (args->timeStep + 1.0) / segments);
+    const Bounds3 b = e.isMesh() ? meshWorldBounds(e, t0, t1) : shapeWorldBounds(e, t0, t1);
+    const Vec3 &f = self->frameOrigin_;
+    RTCBounds *o = args->bounds_o;
+    o->lower_x = roundDown(b.lo.x - f.x);
+    o->lower_y = roundDown(b.lo.y - f.y);
+    o->lower_z = roundDown(b.lo.z - f.z);
+    o->upper_x = roundUp(b.hi.x - f.x);
+    o->upper_y = roundUp(b.hi.y - f.y);
+    o->upper_z = roundUp(b.hi.z - f.z);
+  }
+
+  /// A moving mesh's nearest triangle for ray `r` (world space, its time),
+  /// nearer than `tfar`: traced in the mesh's own scene in object space.
+  static bool movingMeshHit(const EmbreeAccelerator::ShapeRef &ref, const Ray &r, float tfar,
+                            RTCRayHit &rh) {
+    const Ray o = ref.entity->placementAt(r.time).inverse().applyRay(r);
+    toRayHit1(o, Vec3(), rh);
+    rh.ray.tfar = std::min(rh.ray.tfar, tfar);
+    RTCIntersectContext inner;
+    rtcInitIntersectContext(&inner);
+    rtcIntersect1(ref.meshScene, &inner, &rh);
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+
+  static void movingIntersect(const RTCIntersectFunctionNArguments *args) {
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &ref = self->movingRefs_[args->primID];
+    if (!ref.entity->isMesh()) return intersectShapeLanes(args, ref);
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN *hits = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned i = 0; i < n; ++i) {
+      if (!args->valid[i]) continue;
+      const unsigned id = RTCRayN_id(rays, n, i);
+      RTCRayHit rh;
+      if (!movingMeshHit(ref, ctx->rays[id], RTCRayN_tfar(rays, n, i), rh)) continue;
+      // Reported as the entity's own geometry ID (as a directly attached
+      // mesh), so finishHit fills the triangle's hit record.
+      RTCRayN_tfar(rays, n, i) = rh.ray.tfar;
+      RTCHitN_Ng_x(hits, n, i) = rh.hit.Ng_x;
+      RTCHitN_Ng_y(hits, n, i) = rh.hit.Ng_y;
+      RTCHitN_Ng_z(hits, n, i) = rh.hit.Ng_z;
+      RTCHitN_u(hits, n, i) = rh.hit.u;
+      RTCHitN_v(hits, n, i) = rh.hit.v;
+      RTCHitN_primID(hits, n, i) = rh.hit.primID;
+      RTCHitN_geomID(hits, n, i) = ref.index;
+      RTCHitN_instID(hits, n, i, 0) = RTC_INVALID_GEOMETRY_ID;
+    }
+  }
+
+  static void movingOccluded(const RTCOccludedFunctionNArguments *args) {
+    const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
+    const EmbreeAccelerator::ShapeRef &ref = self->movingRefs_[args->primID];
+    if (!ref.entity->isMesh()) return occludedShapeLanes(args, ref);
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+      if (!args->valid[i]) continue;
+      float &tfar = RTCRayN_tfar(args->ray, n, i);
+      if (tfar < 0) continue; // already occluded
+      const Ray &r = ctx->rays[RTCRayN_id(args->ray, n, i)];
+      RTCRay o;
+      const Ray object = ref.entity->placementAt(r.time).inverse().applyRay(r);
+      toEmbree(object, Vec3(), o.org_x, o.org_y, o.org_z, o.dir_x, o.dir_y, o.dir_z, o.tnear,
+               o.tfar);
+      o.tfar = std::min(o.tfar, tfar);
+      o.time = r.time;
+      o.mask = 0xFFFFFFFFu;
+      o.id = 0;
+      o.flags = 0;
+      RTCIntersectContext inner;
+      rtcInitIntersectContext(&inner);
+      rtcOccluded1(ref.meshScene, &inner, &o);
+      if (o.tfar < 0) tfar = -kInfinityF;
+    }
+  }
+
   static void occluded(const RTCOccludedFunctionNArguments *args) {
     const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
-    const EmbreeAccelerator::ShapeRef &shape = self->shapeRefs_[args->primID];
+    occludedShapeLanes(args, self->shapeRefs_[args->primID]);
+  }
+
+  static void occludedShapeLanes(const RTCOccludedFunctionNArguments *args,
+                                 const EmbreeAccelerator::ShapeRef &shape) {
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
@@ -263,9 +401,60 @@ void EmbreeAccelerator::build() {
     if (e.isMesh() && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
 
   std::unordered_map<const MeshData *, RTCScene> meshScene;
+  // The triangle scene of `mesh` in object space, built once.
+  auto meshSceneOf = [&](const MeshData &mesh) {
+    RTCScene &ms = meshScene[&mesh];
+    if (!ms) {
+      ms = newScene();
+      meshScenes_.push_back(ms);
+      RTCGeometry g = triangleGeometry(mesh, false);
+      rtcAttachGeometryByID(ms, g, 0);
+      rtcReleaseGeometry(g);
+      rtcCommitScene(ms);
+    }
+    return ms;
+  };
+  // A mesh whose vertices move: its own scene of one triangle geometry
+  // with a vertex buffer per motion step (Embree blends them linearly).
+  auto deformingScene = [&](const MeshMotion &motion) {
+    const MeshData &first = *motion.steps[0];
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryTimeStepCount(g, static_cast<unsigned>(motion.steps.size()));
+    for (size_t s = 0; s < motion.steps.size(); ++s) {
+      // Padded for Embree's 16-byte read of the last vertex.
+      const std::vector<Vec3f> &positions = motion.steps[s]->positions;
+      auto &buffer = paddedPositions_.emplace_back(positions.size() + 1);
+      std::copy(positions.begin(), positions.end(), buffer.begin());
+      ownedBytes += buffer.size() * sizeof(Vec3f);
+      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, static_cast<unsigned>(s),
+                                 RTC_FORMAT_FLOAT3, buffer.data(), 0, sizeof(Vec3f),
+                                 positions.size());
+    }
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               first.triangleIndices.data(), 0, 3 * sizeof(uint32_t),
+                               first.triangleIndices.size() / 3);
+    rtcCommitGeometry(g);
+    stats_.primitives += first.triangleIndices.size() / 3;
+    RTCScene ms = newScene();
+    meshScenes_.push_back(ms);
+    rtcAttachGeometryByID(ms, g, 0);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(ms);
+    return ms;
+  };
   for (size_t i = 0; i < entities.size(); ++i) {
     const Entity &e = entities[i];
     auto id = static_cast<unsigned>(i);
+    if (e.moves() && !UnboundedShapes::holds(e)) {
+      if (!e.isMesh()) {
+        if (!shapeWorldBounds(e).empty()) movingRefs_.push_back({&e, id});
+      } else if (e.mesh && !e.mesh->triangles.empty()) {
+        movingRefs_.push_back(
+            {&e, id, e.vertexMotion ? deformingScene(*e.vertexMotion) : meshSceneOf(*e.mesh)});
+        ++stats_.instances;
+      }
+      continue;
+    }
     if (!e.isMesh()) {
       // A shape with empty bounds (a CSG Intersection of disjoint solids)
       // has nothing to hit, and Embree would take its inverted box in.
@@ -285,17 +474,8 @@ void EmbreeAccelerator::build() {
       rtcReleaseGeometry(g);
       continue;
     }
-    RTCScene &ms = meshScene[&mesh];
-    if (!ms) {
-      ms = newScene();
-      meshScenes_.push_back(ms);
-      RTCGeometry g = triangleGeometry(mesh, false);
-      rtcAttachGeometryByID(ms, g, 0);
-      rtcReleaseGeometry(g);
-      rtcCommitScene(ms);
-    }
     RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(inst, ms);
+    rtcSetGeometryInstancedScene(inst, meshSceneOf(mesh));
     // Translate(-frame origin) * worldFromObject, composed in double.
     const auto &m = e.worldFromObject.matrix().m;
     float xfm[12];
@@ -322,6 +502,20 @@ void EmbreeAccelerator::build() {
     rtcReleaseGeometry(g);
     stats_.primitives += shapeRefs_.size();
   }
+  if (!movingRefs_.empty()) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryTimeStepCount(g, static_cast<unsigned>(scene_.motionSteps));
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(movingRefs_.size()));
+    rtcSetGeometryUserData(g, this);
+    rtcSetGeometryBoundsFunction(g, &EmbreeCallbacks::movingBounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, &EmbreeCallbacks::movingIntersect);
+    rtcSetGeometryOccludedFunction(g, &EmbreeCallbacks::movingOccluded);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(root_, g, static_cast<unsigned>(entities.size() + 1));
+    rtcReleaseGeometry(g);
+    for (const ShapeRef &ref : movingRefs_)
+      if (!ref.entity->isMesh()) ++stats_.primitives;
+  }
   stats_.primitives += unbounded_.size();
   rtcCommitScene(root_);
 
@@ -331,46 +525,10 @@ void EmbreeAccelerator::build() {
   if (errorCode_.load() != 0)
     throw std::runtime_error("Embree error " + std::to_string(errorCode_.load()) + ": " +
                              std::string(errorMessage_));
-  ownedBytes += shapeRefs_.capacity() * sizeof(ShapeRef);
+  ownedBytes += (shapeRefs_.capacity() + movingRefs_.capacity()) * sizeof(ShapeRef);
   stats_.memoryBytes = static_cast<size_t>(std::max<std::ptrdiff_t>(0, embreeBytes_.load())) +
                        ownedBytes;
 }
-
-namespace {
-
-/// `ray` as Embree's single ray, in the float frame about `origin`, with
-/// no hit yet.
-void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
-  toEmbree(ray, origin, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
-           rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-}
-
-/// rays[0, lanes) as an 8-wide packet (lanes beyond repeat ray 0, invalid),
-/// with each ray's tMax in bestT for the analytic shapes' callbacks.
-void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh, int *valid,
-               double *bestT) {
-  for (unsigned i = 0; i < 8; ++i) {
-    valid[i] = i < lanes ? -1 : 0;
-    const Ray &r = rays[i < lanes ? i : 0];
-    toEmbree(r, origin, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
-             rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
-    rh.ray.time[i] = 0;
-    rh.ray.mask[i] = 0xFFFFFFFFu;
-    rh.ray.id[i] = i;
-    rh.ray.flags[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    bestT[i] = r.tMax;
-  }
-}
-
-} // namespace
 
 bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
   RTCRayHit rh;
@@ -392,7 +550,7 @@ bool EmbreeAccelerator::occluded(const Ray &ray) const {
   RTCRay r;
   toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear,
            r.tfar);
-  r.time = 0;
+  r.time = ray.time;
   r.mask = 0xFFFFFFFFu;
   r.id = 0;
   r.flags = 0;
@@ -501,7 +659,7 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
       const Ray &r = rays[base + (i < lanes ? i : 0)];
       toEmbree(r, frameOrigin_, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i],
                r8.dir_z[i], r8.tnear[i], r8.tfar[i]);
-      r8.time[i] = 0;
+      r8.time[i] = r.time;
       r8.mask[i] = 0xFFFFFFFFu;
       r8.id[i] = i;
       r8.flags[i] = 0;

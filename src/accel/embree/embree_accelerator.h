@@ -52,6 +52,7 @@ public:
   struct ShapeRef {
     const Entity *entity = nullptr;
     uint32_t index = 0;
+    RTCSceneTy *meshScene = nullptr; ///< a moving mesh: its triangle scene
   };
 
 private:
@@ -64,6 +65,9 @@ private:
   std::vector<RTCSceneTy *> meshScenes_;
   /// All analytic entities form one user geometry; primID indexes this.
   std::vector<ShapeRef> shapeRefs_;
+  /// The moving entities (analytic and mesh): one more user geometry with
+  /// a time step per motion step; primID indexes this.
+  std::vector<ShapeRef> movingRefs_;
   /// Planes: outside the Embree scene, tested after it (closest) or before
   /// it (any hit).
   UnboundedShapes unbounded_;

@@ -73,6 +73,21 @@ constexpr uint32_t kDirectTestLimit = 2;
 // takes its lanes one by one.
 constexpr size_t kPacketMinNodes = 4096;
 
+// A mesh whose vertices move: each triangle by its bounds over the shutter
+// (its corners at every step), clipped to a node as a box.
+KdTree buildMovingMeshTree(const MeshMotion &motion) {
+  const size_t n = motion.steps[0]->triangleIndices.size() / 3;
+  std::vector<Bounds3> bounds(n);
+  tbb::parallel_for(size_t{0}, n,
+                    [&](size_t i) { bounds[i] = motion.triangleBounds(static_cast<uint32_t>(i)); });
+  return KdTree::build(bounds, [&bounds](uint32_t i, const Bounds3 &box) {
+    Bounds3 b = bounds[i];
+    b.lo = max(b.lo, box.lo);
+    b.hi = min(b.hi, box.hi);
+    return b;
+  });
+}
+
 KdTree buildMeshTree(const MeshData &mesh) {
   size_t n = mesh.triangleIndices.size() / 3;
   std::vector<Bounds3> bounds(n);
@@ -120,15 +135,26 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
     inst.entity = i;
     if (e.isMesh()) {
       if (!e.mesh || e.mesh->triangleIndices.empty()) continue;
-      auto [it, added] =
-          treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));
-      if (added) meshTrees_.push_back({e.mesh.get(), KdTree()});
-      inst.meshTree = it->second;
-      if (!e.worldFromObject.isIdentity()) {
+      if (e.vertexMotion) {
+        // Its own tree: no other entity's triangles move the same way.
+        inst.meshTree = static_cast<uint32_t>(meshTrees_.size());
+        meshTrees_.push_back({e.mesh.get(), e.vertexMotion.get(), KdTree()});
+      } else {
+        auto [it, added] =
+            treeOfMesh.try_emplace(e.mesh.get(), static_cast<uint32_t>(meshTrees_.size()));
+        if (added) meshTrees_.push_back({e.mesh.get(), nullptr, KdTree()});
+        inst.meshTree = it->second;
+      }
+      if (e.motion) {
+        inst.transform = kMoving; // each ray meets it where it is at the ray's time
+      } else if (!e.worldFromObject.isIdentity()) {
         inst.transform = static_cast<uint32_t>(transforms_.size());
         transforms_.push_back(e.worldFromObject.inverse());
       }
-      topBounds.push_back(transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
+      // A moving mesh: its bounds over the whole shutter.
+      topBounds.push_back(e.moves()
+                              ? meshWorldBounds(e)
+                              : transformedBounds(meshObjectBounds(*e.mesh), e.worldFromObject));
       ++stats_.instances;
     } else {
       ++stats_.primitives;
@@ -140,6 +166,10 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
   // Many small meshes build side by side; a big one parallelises inside.
   tbb::parallel_for(size_t{0}, meshTrees_.size(), [this](size_t i) {
     MeshTree &mt = meshTrees_[i];
+    if (mt.motion) {
+      mt.tree = buildMovingMeshTree(*mt.motion);
+      return;
+    }
     mt.tree = buildMeshTree(*mt.mesh);
     std::span<const uint32_t> refs = mt.tree.primIndices();
     mt.packets.resize(refs.size() / kPacketLanes);
@@ -179,10 +209,14 @@ template <bool AnyHit, KdRays Rays>
 [[gnu::always_inline]] inline bool KdTreeAccelerator::intersectMesh(const Instance &inst,
                                                                     const Ray &ray, double &tBest,
                                                                     MeshHit &hit) const {
-  const Ray objectRay =
-      inst.transform == kIdentity ? ray : transforms_[inst.transform].applyRay(ray);
+  const Ray objectRay = objectRayOf(inst, ray);
   const WatertightRay wray(objectRay);
   const MeshTree &mt = meshTrees_[inst.meshTree];
+  if (mt.motion)
+    return mt.tree.traverseLeaves<AnyHit, Rays>(
+        objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
+          return testMovingLeaf<AnyHit>(mt, wray, ray.time, offset, count, tTri, hit);
+        });
   // Meshes of one or two triangles (a floor) only take the exact test.
   const PrefilterRay fray = mt.mesh->triangleIndices.size() > 3 * kDirectTestLimit
                                 ? PrefilterRay(wray, mt.tree.bounds())
@@ -194,6 +228,27 @@ template <bool AnyHit, KdRays Rays>
           return testMeshLeaf<AnyHit, kz>(mt, wray, fray, offset, count, tTri, hit);
         });
   });
+}
+
+template <bool AnyHit>
+bool KdTreeAccelerator::testMovingLeaf(const MeshTree &mt, const WatertightRay &wray, double time,
+                                       uint32_t offset, uint32_t count, double &tTri,
+                                       MeshHit &hit) const {
+  const uint32_t *refs = mt.tree.primIndices().data() + offset;
+  const std::vector<uint32_t> &corners = mt.mesh->triangleIndices;
+  bool hitHere = false;
+  for (uint32_t j = 0; j < count; ++j) {
+    const uint32_t *v = corners.data() + 3 * size_t{refs[j]};
+    TriangleHitParams params;
+    if (!intersectTriangle(wray, mt.motion->position(v[0], time), mt.motion->position(v[1], time),
+                           mt.motion->position(v[2], time), tTri, params))
+      continue;
+    tTri = params.t;
+    hit = {offset + j, params.b1, params.b2};
+    if (AnyHit) return true;
+    hitHere = true;
+  }
+  return hitHere;
 }
 
 template <bool AnyHit, int Kz>
@@ -242,8 +297,7 @@ uint32_t KdTreeAccelerator::intersectMeshPacket(const Instance &inst, const Ray 
   PrefilterRay frays[kRays];
   for (int i = 0; i < kRays; ++i) {
     if (!(lanes >> i & 1u)) continue;
-    objectRays[i] =
-        inst.transform == kIdentity ? rays[i] : transforms_[inst.transform].applyRay(rays[i]);
+    objectRays[i] = objectRayOf(inst, rays[i]);
     wrays[i].emplace(objectRays[i]);
     if (prefilter) frays[i] = PrefilterRay(*wrays[i], mt.tree.bounds());
   }
@@ -364,7 +418,8 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       return found;
     }
     MeshHit meshHits[kRays];
-    if (meshTrees_[inst.meshTree].tree.nodes().size() >= kPacketMinNodes) {
+    const MeshTree &mt = meshTrees_[inst.meshTree];
+    if (mt.tree.nodes().size() >= kPacketMinNodes && !mt.motion) {
       found = intersectMeshPacket<AnyHit>(inst, rays, in, tBest, meshHits);
     } else {
       for (uint32_t m = in; m != 0; m &= m - 1) {

@@ -52,6 +52,10 @@ private:
 
   struct MeshTree {
     const MeshData *mesh = nullptr;
+    /// Set for a mesh whose vertices move (Entity::vertexMotion): the tree
+    /// holds each triangle's bounds over the shutter, and each ray meets
+    /// the triangles where they are at its time (no packets).
+    const MeshMotion *motion = nullptr;
     KdTree tree;
     /// The triangles' corners copied out of the mesh in the tree's leaf
     /// order, four leaf references per packet (leaves are padded to
@@ -60,13 +64,15 @@ private:
     std::vector<TrianglePacket> packets;
   };
   static constexpr uint32_t kIdentity = ~0u;
+  /// A moving mesh (Entity::motion): its transform at each ray's time.
+  static constexpr uint32_t kMoving = ~0u - 1;
   /// One top-level primitive: an entity and, for meshes, how to reach its
   /// tree. 12 bytes: a scene of a million analytic shapes keeps a million.
   struct Instance {
     uint32_t entity = 0;
     uint32_t meshTree = kAnalytic;
     /// Meshes: the index of objectFromWorld in transforms_, or kIdentity
-    /// (object space == world space: the ray is not transformed).
+    /// (object space == world space: the ray is not transformed), or kMoving.
     uint32_t transform = kIdentity;
   };
   static_assert(sizeof(Instance) == 12);
@@ -90,6 +96,18 @@ private:
     TriangleCandidate triangles[KdTree::kPacketRays];
     uint32_t triangleLanes = 0;
   };
+  /// testMeshLeaf for a tree whose triangles move (MeshTree::motion): the
+  /// exact test on the corners at the ray's time.
+  template <bool AnyHit>
+  bool testMovingLeaf(const MeshTree &mt, const WatertightRay &wray, double time, uint32_t offset,
+                      uint32_t count, double &tTri, MeshHit &hit) const;
+  /// `ray` (world space) in the object space of mesh instance `inst`.
+  Ray objectRayOf(const Instance &inst, const Ray &ray) const {
+    if (inst.transform == kIdentity) return ray;
+    if (inst.transform == kMoving)
+      return scene_.entities[inst.entity].motion->at(ray.time).inverse().applyRay(ray);
+    return transforms_[inst.transform].applyRay(ray);
+  }
   /// The nearest (AnyHit: any) triangle of a mesh instance with t in
   /// (ray.tMin, tBest), `ray` in world space; lowers tBest to a hit's t.
   template <bool AnyHit, KdRays Rays>

@@ -12,6 +12,11 @@
 #include "bindings/scene_script.h"
 #include "render/image_writer.h"
 #include "render/renderer.h"
+#include "run/frame_pipeline.h"
+#include "run/limit_options.h"
+#include "run/render_stats.h"
+#include "run/run_plan.h"
+#include "run/sampling_options.h"
 #include "shading/image_cache.h"
 #include "render/backends.h"
 
@@ -90,7 +95,7 @@ public:
       stats.frame = frame_;
       stats.clock = status_.clock;
       auto t0 = std::chrono::steady_clock::now();
-      Scene scene = script.buildFrame(status_.clock);
+      Scene scene = buildFrameScene(script, info, frame_, stats.sceneCalls);
       stats.sceneSeconds = secondsSince(t0);
       ImageCache images(opt_.linear); // afresh: an image file may have changed
       images.load(scene);

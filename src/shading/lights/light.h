@@ -8,6 +8,8 @@
 #include "math/color.h"
 #include "math/random.h"
 #include "math/transform.h"
+#include "shading/lights/light_motion.h"
+#include "shading/lights/light_sample.h"
 #include "util/scene_error.h"
 #include "shading/lights/light_sample.h"
 
@@ -59,8 +61,14 @@ struct Light {
       const int row = k / cols_, col = k % cols_;
       double fx = 0.5, fz = 0.5;
       if (area_) random.next2D(fx, fz);
-      return {corner_ + cellX_ * (col + fx) + cellZ_ * (row + fz), weightedColor_};
+      const Vec3 target = corner_ + cellX_ * (col + fx) + cellZ_ * (row + fz);
+      if (!motion_) return {target, weightedColor_};
+      return {target + motion_->at(random.time), weightedColor_};
     }
+
+    /// A light that moves while the shutter is open: each sample is taken
+    /// where it is at the sample's time (lray::Sampler::time).
+    void setMotion(const LightMotion *motion) { motion_ = motion; }
 
   private:
     Vec3 corner_; ///< world position of local (-0.5, 0, -0.5)
@@ -69,6 +77,7 @@ struct Light {
     Color weightedColor_;
     int rows_, cols_;
     bool area_, emits_;
+    const LightMotion *motion_ = nullptr;
   };
 };
 

@@ -18,9 +18,14 @@ using SceneLight = std::variant<Light, SpotLight>;
 /// A light prepared for sampling (one per emitting light, per frame).
 using LightSampler = std::variant<Light::Sampler, SpotLight::Sampler>;
 
-inline LightSampler prepareLight(const SceneLight &light) {
+/// `motion`: where the light moves while the shutter is open, or null.
+inline LightSampler prepareLight(const SceneLight &light, const LightMotion *motion = nullptr) {
   return std::visit(
-      [](const auto &l) -> LightSampler { return typename std::decay_t<decltype(l)>::Sampler(l); },
+      [motion](const auto &l) -> LightSampler {
+        typename std::decay_t<decltype(l)>::Sampler s(l);
+        s.setMotion(motion);
+        return s;
+      },
       light);
 }
 

@@ -8,6 +8,8 @@
 #include "math/constants.h"
 #include "math/random.h"
 #include "math/transform.h"
+#include "shading/lights/light_motion.h"
+#include "shading/lights/light_sample.h"
 #include "util/scene_error.h"
 #include "shading/lights/light_sample.h"
 
@@ -60,9 +62,15 @@ struct SpotLight {
 
     /// The light at `p`: colour times the cone's factor for the direction
     /// from the light to p (black outside the falloff cone).
-    LightSample sample(int, const Vec3 &p, lray::Sampler &) const {
-      return {position_, color_ * factor(p)};
+    LightSample sample(int, const Vec3 &p, lray::Sampler &random) const {
+      if (!motion_) return {position_, color_ * factor(p)};
+      // Moving: the light and its cone shifted to where it is at this time.
+      const Vec3 shift = motion_->at(random.time);
+      return {position_ + shift, color_ * factor(p - shift)};
     }
+
+    /// As Light::Sampler::setMotion.
+    void setMotion(const LightMotion *motion) { motion_ = motion; }
 
     /// 1 inside `angle`, 0 outside `falloff`, smoothstep of the cosine between.
     double factor(const Vec3 &p) const {
@@ -80,6 +88,7 @@ struct SpotLight {
     Vec3 position_, axis_;
     Color color_;
     double cosAngle_, cosFalloff_;
+    const LightMotion *motion_ = nullptr;
   };
 };
 

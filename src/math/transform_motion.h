@@ -1,0 +1,108 @@
+// Pipeline: shared math. A transform that moves while the shutter is open
+// (lua/README.md, "Motion blur"): known at k evenly spaced motion steps,
+// interpolated between them. Each step's matrix is split into translation,
+// rotation and stretch (M = T R S, R a rotation by its polar
+// decomposition), and those are interpolated: translation and stretch
+// linearly, rotation by spherical interpolation of quaternions, so that a
+// spinning wheel turns at an even rate and never shrinks in between (Shoemake
+// and Duff 1992, as pbrt's AnimatedTransform does).
+#pragma once
+
+#include "math/bounds.h"
+#include "math/transform.h"
+#include "math/vec3.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace lray {
+
+/// A unit quaternion (w + xi + yj + zk).
+struct Quaternion {
+  double w = 1, x = 0, y = 0, z = 0;
+};
+
+/// One motion step's matrix as translation * rotation * stretch.
+struct TransformParts {
+  Vec3 translation;
+  Quaternion rotation;
+  std::array<std::array<double, 3>, 3> stretch{}; ///< symmetric
+};
+
+/// Splits the affine `m` into TransformParts (its linear part by polar
+/// decomposition; a mirroring part goes into the stretch, so the rotation
+/// is proper).
+TransformParts decompose(const Mat4 &m);
+/// The affine matrix T R S of `parts`.
+Mat4 compose(const TransformParts &parts);
+/// Spherical interpolation from a to b (the shorter way round) at u in [0, 1].
+Quaternion slerp(const Quaternion &a, const Quaternion &b, double u);
+
+/// A transform at k >= 2 motion steps, times 0, 1/(k-1), ..., 1 of the
+/// shutter.
+class TransformMotion {
+public:
+  /// `steps`: the transform at each step (at least two, none singular).
+  explicit TransformMotion(std::vector<Transform> steps);
+
+  size_t stepCount() const { return steps_.size(); }
+  const Transform &step(size_t i) const { return steps_[i]; }
+
+  /// The transform at `time` in [0, 1] (clamped): exactly step i's at its
+  /// own time, interpolated parts between.
+  Transform at(double time) const;
+  /// Only the matrix of at(time) (no inverse): cameras.
+  Mat4 matrixAt(double time) const;
+
+  /// Bounds of `objectBox` placed by the transform over the times [t0, t1]:
+  /// the boxes at evenly spaced times, widened by how far any point of the
+  /// box can move between two of them (its speed bound, see the .cpp).
+  Bounds3 sweptBounds(const Bounds3 &objectBox, double t0, double t1) const;
+  /// Bounds over the whole shutter from a function giving tight world
+  /// bounds for one transform (an analytic shape's): the same times and
+  /// widening as sweptBounds, with `objectBox` for the speed bound.
+  template <class BoundsAt>
+  Bounds3 sweptBounds(const Bounds3 &objectBox, double t0, double t1, BoundsAt boundsAt) const;
+
+private:
+  /// Where `time` falls: segment i (steps i and i + 1) and the fraction u.
+  void locate(double time, size_t &i, double &u) const;
+  /// How fast a point of `objectBox` can move over segment i (distance per
+  /// whole segment).
+  double segmentSpeed(size_t segment, const Bounds3 &objectBox) const;
+
+  std::vector<Transform> steps_;
+  std::vector<TransformParts> parts_;
+};
+
+template <class BoundsAt>
+Bounds3 TransformMotion::sweptBounds(const Bounds3 &objectBox, double t0, double t1,
+                                     BoundsAt boundsAt) const {
+  Bounds3 out;
+  if (objectBox.empty()) return out;
+  const size_t segments = steps_.size() - 1;
+  const Vec3 extent = objectBox.hi - objectBox.lo;
+  const double size = std::max({extent.x, extent.y, extent.z, 1e-300});
+  double gap = 0;
+  for (size_t i = 0; i < segments; ++i) {
+    const double s0 = double(i) / segments, s1 = double(i + 1) / segments;
+    if (s1 < t0 || s0 > t1) continue;
+    // Samples enough for the widening to stay within 1/200 of the box's
+    // size (8 to 256 of them).
+    const double speed = segmentSpeed(i, objectBox);
+    const int samples = static_cast<int>(std::clamp(std::ceil(speed / (0.01 * size)), 8.0, 256.0));
+    gap = std::max(gap, speed / samples / 2 * (1 + 1e-9));
+    for (int j = 0; j <= samples; ++j) {
+      const double t = s0 + (s1 - s0) * j / samples;
+      if (t >= t0 && t <= t1) out.extend(boundsAt(at(t)));
+    }
+  }
+  out.extend(boundsAt(at(t0)));
+  out.extend(boundsAt(at(t1)));
+  const Vec3 pad(gap, gap, gap);
+  return {out.lo - pad, out.hi + pad};
+}
+
+} // namespace lray

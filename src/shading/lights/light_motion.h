@@ -1,0 +1,27 @@
+// Pipeline: shading. A light that moves while the shutter is open
+// (lua/README.md, "Motion blur"): its position at each motion step less
+// its position at step 0, interpolated linearly between the steps. The
+// light keeps the orientation and size it has at step 0.
+#pragma once
+
+#include "math/vec3.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace lray {
+
+struct LightMotion {
+  std::vector<Vec3> offsets; ///< one per motion step, offsets[0] = 0
+
+  /// The offset at shutter time `time` in [0, 1] (clamped).
+  Vec3 at(double time) const {
+    const size_t segments = offsets.size() - 1;
+    const double x = std::clamp(time, 0.0, 1.0) * static_cast<double>(segments);
+    const size_t i = std::min(static_cast<size_t>(x), segments - 1);
+    const double u = x - static_cast<double>(i);
+    return offsets[i] * (1 - u) + offsets[i + 1] * u;
+  }
+};
+
+} // namespace lray

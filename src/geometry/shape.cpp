@@ -19,8 +19,7 @@ namespace {
 // Inlined into every shape's instantiation: as a call of its own, its
 // result went through memory in pieces wider than they were written (a
 // store-forwarding stall per shape test).
-[[gnu::always_inline]] inline Ray objectRay(const Transform &xf, const Ray &worldRay) {
-  const Mat4 &inv = xf.inverseMatrix();
+[[gnu::always_inline]] inline Ray objectRay(const Mat4 &inv, const Ray &worldRay) {
   return {affinePoint(inv, worldRay.o), affineVector(inv, worldRay.d), worldRay.tMin,
           worldRay.tMax};
 }
@@ -112,26 +111,18 @@ bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, con
   return true;
 }
 
-template <class S>
-bool intersectAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex,
-                       const Ray &worldRay, Hit &hit) {
-  Ray farRay = objectRay(xf, worldRay);
+/// The shape's test with the ray taken into object space by `inverse`;
+/// `placement()` gives the whole transform (whose inverse that is) only
+/// for a hit: a moving entity's is computed then, not for every miss.
+template <class S, class Placement>
+bool intersectAnalytic(const S &shape, const Mat4 &inverse, Placement placement,
+                       uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
+  Ray farRay = objectRay(inverse, worldRay);
   double shift = shape.originShift(farRay);
   Ray ray = shifted(farRay, shift);
   ObjectHit oh;
   if (!shape.intersect(ray, oh)) return false;
-  return fillAnalytic(shape, xf, entityIndex, worldRay, ray, shift, oh, hit);
-}
-
-/// f(placement) with the entity's placement at the ray's time: its own
-/// transform, or (moving) the one computed for that time. A Transform is
-/// hundreds of bytes: a static entity's test constructs none.
-template <class F>
-[[gnu::always_inline]] inline auto withPlacement(const Entity &entity, const Ray &ray, F &&f) {
-  if (!entity.motion) [[likely]]
-    return f(entity.worldFromObject);
-  const Transform moved = entity.motion->at(ray.time);
-  return f(moved);
+  return fillAnalytic(shape, placement(), entityIndex, worldRay, ray, shift, oh, hit);
 }
 
 } // namespace
@@ -210,9 +201,15 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
         if constexpr (std::is_same_v<S, Csg>) {
           return intersectCsg(s, entityIndex, worldRay, hit);
         } else if constexpr (kAnalyticShape<S>) {
-          return withPlacement(entity, worldRay, [&](const Transform &xf) {
-            return intersectAnalytic(s, xf, entityIndex, worldRay, hit);
-          });
+          if (!entity.motion) [[likely]]
+            return intersectAnalytic(
+                s, entity.worldFromObject.inverseMatrix(),
+                [&]() -> const Transform & { return entity.worldFromObject; }, entityIndex,
+                worldRay, hit);
+          // Moving: where it is at the ray's time.
+          return intersectAnalytic(
+              s, entity.motion->inverseMatrixAt(worldRay.time),
+              [&] { return entity.motion->at(worldRay.time); }, entityIndex, worldRay, hit);
         } else {
           return false;
         }
@@ -227,11 +224,11 @@ bool occludedShape(const Entity &entity, const Ray &worldRay) {
         if constexpr (std::is_same_v<S, Csg>) {
           return occludedCsg(s, worldRay);
         } else if constexpr (kAnalyticShape<S>) {
-          return withPlacement(entity, worldRay, [&](const Transform &xf) {
-            Ray ray = objectRay(xf, worldRay);
-            ObjectHit oh;
-            return s.intersect(shifted(ray, s.originShift(ray)), oh);
-          });
+          const Ray ray = objectRay(entity.motion ? entity.motion->inverseMatrixAt(worldRay.time)
+                                                  : entity.worldFromObject.inverseMatrix(),
+                                    worldRay);
+          ObjectHit oh;
+          return s.intersect(shifted(ray, s.originShift(ray)), oh);
         } else {
           return false;
         }
@@ -243,7 +240,7 @@ int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shi
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity.worldFromObject, worldRay);
+          Ray farRay = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
           shift = s.originShift(farRay);
           return s.spans(shifted(farRay, shift), out);
         } else {
@@ -259,7 +256,7 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity.worldFromObject, worldRay);
+          Ray farRay = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
           double shift = s.originShift(farRay);
           return fillAnalytic(s, entity.worldFromObject, entityIndex, worldRay,
                               shifted(farRay, shift), shift, ObjectHit{tObject, part}, hit);

@@ -90,6 +90,13 @@ Transform Transform::fromMatrix(const Mat4 &m) {
   return t.cacheDerived();
 }
 
+Transform Transform::fromMatrixAndInverse(const Mat4 &m, const Mat4 &inverse) {
+  Transform t;
+  t.m_ = m;
+  t.inv_ = inverse;
+  return t.cacheDerived();
+}
+
 Transform Transform::translate(const Vec3 &v) {
   Mat4 m = Mat4::identity();
   m.m[0][3] = v.x;

@@ -40,6 +40,9 @@ public:
   static Transform lookAt(const Vec3 &pos, const Vec3 &at, const Vec3 &up);
   /// From a matrix; marks the result singular if its linear part is not invertible.
   static Transform fromMatrix(const Mat4 &m);
+  /// From a matrix and its inverse, computed together by the caller (a
+  /// moving transform's, math/transform_motion.h); not checked.
+  static Transform fromMatrixAndInverse(const Mat4 &m, const Mat4 &inverse);
 
   /// `a * b` applies b first, then a.
   Transform operator*(const Transform &o) const;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace lray {
 
@@ -86,6 +87,15 @@ Mat3 toMatrix(const Quaternion &q) {
            {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
 }
 
+/// The rotation matrix of a unit quaternion in its homogeneous (purely
+/// quadratic) form, which segments blend (TransformMotion::Segment).
+Mat3 homogeneousMatrix(const Quaternion &q) {
+  const double w = q.w, x = q.x, y = q.y, z = q.z;
+  return {{{w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)},
+           {2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)},
+           {2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z}}};
+}
+
 double dot(const Quaternion &a, const Quaternion &b) {
   return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
 }
@@ -95,14 +105,26 @@ double turnAngle(const Quaternion &a, const Quaternion &b) {
   return 2 * std::acos(std::min(1.0, std::fabs(dot(a, b))));
 }
 
-TransformParts lerpParts(const TransformParts &a, const TransformParts &b, double u) {
-  TransformParts r;
-  r.translation = a.translation * (1 - u) + b.translation * u;
-  r.rotation = slerp(a.rotation, b.rotation, u);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      r.stretch[i][j] = a.stretch[i][j] * (1 - u) + b.stretch[i][j] * u;
-  return r;
+/// The affine matrix of linear part l and translation t (into `forward`
+/// when given) and its inverse from li, the inverse of l (into `inverse`
+/// when given).
+void place(const Mat3 &l, const Mat3 &li, const Vec3 &t, Mat4 *forward, Mat4 *inverse) {
+  if (forward) {
+    Mat4 &m = *forward;
+    m.m[3] = {0, 0, 0, 1};
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) m.m[a][b] = l[a][b];
+      m.m[a][3] = t[a];
+    }
+  }
+  if (inverse) {
+    Mat4 &w = *inverse;
+    w.m[3] = {0, 0, 0, 1};
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) w.m[a][b] = li[a][b];
+      w.m[a][3] = -(li[a][0] * t.x + li[a][1] * t.y + li[a][2] * t.z);
+    }
+  }
 }
 
 } // namespace
@@ -138,7 +160,8 @@ TransformParts decompose(const Mat4 &m) {
 
 Mat4 compose(const TransformParts &parts) {
   const Mat3 l = product(toMatrix(parts.rotation), parts.stretch);
-  Mat4 m = Mat4::identity();
+  Mat4 m;
+  m.m[3] = {0, 0, 0, 1};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       m.m[i][j] = l[i][j];
@@ -148,32 +171,88 @@ Mat4 compose(const TransformParts &parts) {
   return m;
 }
 
-Quaternion slerp(const Quaternion &a, const Quaternion &b0, double u) {
-  Quaternion b = b0;
-  double c = dot(a, b);
-  if (c < 0) {
-    b = {-b.w, -b.x, -b.y, -b.z};
-    c = -c;
-  }
-  double wa, wb;
-  if (c > 0.9999) { // nearly the same: linear, renormalised below
-    wa = 1 - u;
-    wb = u;
-  } else {
-    const double theta = std::acos(c);
-    const double s = std::sin(theta);
-    wa = std::sin((1 - u) * theta) / s;
-    wb = std::sin(u * theta) / s;
-  }
-  Quaternion q{wa * a.w + wb * b.w, wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z};
-  const double n = std::sqrt(dot(q, q));
-  return {q.w / n, q.x / n, q.y / n, q.z / n};
-}
-
 TransformMotion::TransformMotion(std::vector<Transform> steps) : steps_(std::move(steps)) {
   parts_.reserve(steps_.size());
-  for (const Transform &t : steps_)
-    parts_.push_back(decompose(t.matrix()));
+  for (const Transform &t : steps_) parts_.push_back(decompose(t.matrix()));
+  for (size_t i = 0; i + 1 < parts_.size(); ++i) {
+    const TransformParts &a = parts_[i], &b = parts_[i + 1];
+    Segment s;
+    const Quaternion &q0 = a.rotation;
+    Quaternion q1 = b.rotation;
+    double c = dot(q0, q1);
+    if (c < 0) { // the nearer of q1 and -q1 (the same rotation)
+      q1 = {-q1.w, -q1.x, -q1.y, -q1.z};
+      c = -c;
+    }
+    // The part of q1 orthogonal to q0, normalised; none when they are the
+    // same rotation (then theta = 0 and only q0 counts).
+    Quaternion perp{q1.w - c * q0.w, q1.x - c * q0.x, q1.y - c * q0.y, q1.z - c * q0.z};
+    const double n = std::sqrt(dot(perp, perp));
+    if (n > 1e-12) {
+      perp = {perp.w / n, perp.x / n, perp.y / n, perp.z / n};
+      s.theta = std::atan2(n, c);
+    } else {
+      perp = {};
+    }
+    // H(c q0 + s qp) = c^2 H(q0) + s^2 H(qp) + 2 c s B(q0, qp), and c^2 =
+    // (1 + cos 2u)/2, s^2 = (1 - cos 2u)/2, 2 c s = sin 2u.
+    const Mat3 h0 = homogeneousMatrix(q0), hp = homogeneousMatrix(perp);
+    const Mat3 sum = homogeneousMatrix({q0.w + perp.w, q0.x + perp.x, q0.y + perp.y,
+                                        q0.z + perp.z});
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        s.rotation[0][r][k] = (h0[r][k] + hp[r][k]) / 2;
+        s.rotation[1][r][k] = (h0[r][k] - hp[r][k]) / 2;
+        s.rotation[2][r][k] = (sum[r][k] - h0[r][k] - hp[r][k]) / 2;
+      }
+    s.translation = a.translation;
+    s.translationChange = b.translation - a.translation;
+    s.stretch = a.stretch;
+    // The polar decompositions of two steps with the same stretch may
+    // differ in the last bits: the same within 1e-13 of the largest entry.
+    double largest = 0, change = 0;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        s.stretchChange[r][k] = b.stretch[r][k] - a.stretch[r][k];
+        largest = std::max(largest, std::fabs(a.stretch[r][k]));
+        change = std::max(change, std::fabs(s.stretchChange[r][k]));
+      }
+    s.fixedStretch = change <= 1e-13 * largest;
+    if (s.fixedStretch) {
+      s.stretchChange = {};
+      const Mat3 stretchInverse = transposed(inverseTranspose(a.stretch));
+      for (int j = 0; j < 3; ++j) {
+        s.linear[j] = product(s.rotation[j], a.stretch);
+        s.linearInverse[j] = product(stretchInverse, transposed(s.rotation[j]));
+      }
+    }
+    segments_.push_back(s);
+  }
+}
+
+void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const {
+  const Segment &s = segments_[i];
+  const Vec3 t = s.translation + s.translationChange * u;
+  double c = 1, sn = 0;
+  if (s.theta > 0) {
+    sn = std::sin(2 * u * s.theta);
+    c = std::cos(2 * u * s.theta);
+  }
+  auto blend = [c, sn](const std::array<Mat3, 3> &m) {
+    Mat3 r;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) r[a][b] = m[0][a][b] + c * m[1][a][b] + sn * m[2][a][b];
+    return r;
+  };
+  if (s.fixedStretch) {
+    place(forward ? blend(s.linear) : Mat3{}, inverse ? blend(s.linearInverse) : Mat3{}, t,
+          forward, inverse);
+    return;
+  }
+  Mat3 stretch = s.stretch;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) stretch[a][b] += s.stretchChange[a][b] * u;
+  place(product(blend(s.rotation), stretch), Mat3{}, t, forward, nullptr);
 }
 
 void TransformMotion::locate(double time, size_t &i, double &u) const {
@@ -189,7 +268,44 @@ Transform TransformMotion::at(double time) const {
   locate(time, i, u);
   if (u == 0) return steps_[i];
   if (u == 1) return steps_[i + 1];
-  return Transform::fromMatrix(compose(lerpParts(parts_[i], parts_[i + 1], u)));
+  Mat4 m, inverse;
+  if (!segments_[i].fixedStretch) {
+    segmentMatrix(i, u, &m, nullptr);
+    return Transform::fromMatrix(m);
+  }
+  segmentMatrix(i, u, &m, &inverse);
+  return Transform::fromMatrixAndInverse(m, inverse);
+}
+
+Mat4 TransformMotion::inverseMatrixAt(double time) const {
+  // The rays of one camera sample share its time: its shadow rays (one
+  // per light cell) test the same moving entities at the same time. A
+  // small cache per thread, keyed by motion and time, answers those
+  // repeats (the same bits: the matrix is a function of the two).
+  struct Entry {
+    const TransformMotion *motion = nullptr;
+    double time = 0;
+    Mat4 inverse;
+  };
+  thread_local std::array<Entry, 16> cache;
+  Entry &e = cache[(reinterpret_cast<uintptr_t>(this) >> 4) % cache.size()];
+  if (e.motion == this && e.time == time) return e.inverse;
+  e.motion = this;
+  e.time = time;
+  e.inverse = computeInverseAt(time);
+  return e.inverse;
+}
+
+Mat4 TransformMotion::computeInverseAt(double time) const {
+  size_t i;
+  double u;
+  locate(time, i, u);
+  if (u == 0) return steps_[i].inverseMatrix();
+  if (u == 1) return steps_[i + 1].inverseMatrix();
+  if (!segments_[i].fixedStretch) return at(time).inverseMatrix();
+  Mat4 inverse;
+  segmentMatrix(i, u, nullptr, &inverse);
+  return inverse;
 }
 
 Mat4 TransformMotion::matrixAt(double time) const {
@@ -198,7 +314,9 @@ Mat4 TransformMotion::matrixAt(double time) const {
   locate(time, i, u);
   if (u == 0) return steps_[i].matrix();
   if (u == 1) return steps_[i + 1].matrix();
-  return compose(lerpParts(parts_[i], parts_[i + 1], u));
+  Mat4 m;
+  segmentMatrix(i, u, &m, nullptr);
+  return m;
 }
 
 // A point x of the object moves as p(u) = T(u) + R(u) S(u) x over segment

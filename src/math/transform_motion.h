@@ -37,8 +37,6 @@ struct TransformParts {
 TransformParts decompose(const Mat4 &m);
 /// The affine matrix T R S of `parts`.
 Mat4 compose(const TransformParts &parts);
-/// Spherical interpolation from a to b (the shorter way round) at u in [0, 1].
-Quaternion slerp(const Quaternion &a, const Quaternion &b, double u);
 
 /// A transform at k >= 2 motion steps, times 0, 1/(k-1), ..., 1 of the
 /// shutter.
@@ -55,6 +53,8 @@ public:
   Transform at(double time) const;
   /// Only the matrix of at(time) (no inverse): cameras.
   Mat4 matrixAt(double time) const;
+  /// Only the inverse matrix of at(time), the same bits: a ray test.
+  Mat4 inverseMatrixAt(double time) const;
 
   /// Bounds of `objectBox` placed by the transform over the times [t0, t1]:
   /// the boxes at evenly spaced times, widened by how far any point of the
@@ -67,14 +67,38 @@ public:
   Bounds3 sweptBounds(const Bounds3 &objectBox, double t0, double t1, BoundsAt boundsAt) const;
 
 private:
+  using Mat3 = std::array<std::array<double, 3>, 3>;
+  /// What interpolating over segment i (steps i and i + 1) needs, set up
+  /// once. The slerp from q0 to the nearer of +-q1 is q(u) = cos(u theta)
+  /// q0 + sin(u theta) qPerp, and a unit quaternion's matrix is quadratic
+  /// in it, so the rotation is R(u) = P + cos(2 u theta) Q + sin(2 u theta)
+  /// W for three fixed matrices: one sincos and a blend per time.
+  struct Segment {
+    double theta = 0;
+    Vec3 translation, translationChange;
+    std::array<Mat3, 3> rotation{}; ///< P, Q, W
+    Mat3 stretch{}, stretchChange{};
+    /// The stretch is the same at both ends up to rounding (a turn, a
+    /// slide: the usual case): then the linear part R(u) S and its inverse
+    /// S^-1 R(u)^T blend three fixed matrices each too, and the
+    /// transform's inverse needs no solve.
+    bool fixedStretch = false;
+    std::array<Mat3, 3> linear{}, linearInverse{};
+  };
+  /// inverseMatrixAt without its cache.
+  Mat4 computeInverseAt(double time) const;
   /// Where `time` falls: segment i (steps i and i + 1) and the fraction u.
   void locate(double time, size_t &i, double &u) const;
+  /// Segment i's matrix at fraction u (when `forward` is given) and, for a
+  /// fixed stretch, its inverse (when `inverse` is).
+  void segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const;
   /// How fast a point of `objectBox` can move over segment i (distance per
   /// whole segment).
   double segmentSpeed(size_t segment, const Bounds3 &objectBox) const;
 
   std::vector<Transform> steps_;
   std::vector<TransformParts> parts_;
+  std::vector<Segment> segments_;
 };
 
 template <class BoundsAt>

@@ -42,6 +42,17 @@ TEST(TransformMotion, ASpinningWheelTurnsEvenlyAndKeepsItsSize) {
     expectNear(at.matrix(), (place * Transform::rotate(kZ, 120 * t)).matrix(), 1e-12);
     EXPECT_NEAR(at.matrix().det3(), 8, 1e-12); // a linear blend of matrices gives 2
   }
+  // Between steps, of a turning wheel and of one that also grows: the
+  // inverse is the matrix's.
+  const TransformMotion growing({place, Transform::translate({0, 1, 0}) *
+                                            Transform::rotate(kZ, 60) * Transform::scale(3, 1, 2)});
+  for (const TransformMotion *m : {&wheel, &growing})
+    for (double t : {0.1, 0.5, 0.9}) {
+      const Transform at = m->at(t);
+      expectNear(at.matrix() * at.inverseMatrix(), Mat4::identity(), 1e-13);
+      EXPECT_EQ(m->inverseMatrixAt(t), at.inverseMatrix());
+      EXPECT_EQ(m->matrixAt(t), at.matrix());
+    }
   // The steps themselves, bit for bit.
   EXPECT_EQ(wheel.at(0).matrix(), place.matrix());
   EXPECT_EQ(wheel.at(1).matrix(), (place * Transform::rotate(kZ, 120)).matrix());

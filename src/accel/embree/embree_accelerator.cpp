@@ -21,6 +21,7 @@
 #include "accel/embree/embree_accelerator.h"
 
 #include "geometry/float_frame.h"
+#include "math/affine.h"
 #include "geometry/shape.h"
 #include "geometry/triangle_prefetch.h"
 
@@ -76,6 +77,12 @@ void toEmbree(const Ray &r, const Vec3 &frame, float &ox, float &oy, float &oz, 
   dz = static_cast<float>(r.d.z);
   tnear = std::max(0.0f, roundDown(r.tMin));
   tfar = roundUp(r.tMax);
+}
+
+/// `ray` taken into object space by `objectFromWorld` (its time kept).
+Ray objectRay(const Mat4 &objectFromWorld, const Ray &ray) {
+  return {affinePoint(objectFromWorld, ray.o), affineVector(objectFromWorld, ray.d), ray.tMin,
+          ray.tMax, ray.time};
 }
 
 /// `ray` as Embree's single ray, in the float frame about `origin`, with
@@ -204,7 +211,7 @@ struct EmbreeCallbacks {
   /// nearer than `tfar`: traced in the mesh's own scene in object space.
   static bool movingMeshHit(const EmbreeAccelerator::ShapeRef &ref, const Ray &r, float tfar,
                             RTCRayHit &rh) {
-    const Ray o = ref.entity->placementAt(r.time).inverse().applyRay(r);
+    const Ray o = objectRay(ref.entity->objectFromWorldAt(r.time), r);
     toRayHit1(o, Vec3(), rh);
     rh.ray.tfar = std::min(rh.ray.tfar, tfar);
     RTCIntersectContext inner;
@@ -252,7 +259,7 @@ struct EmbreeCallbacks {
       if (tfar < 0) continue; // already occluded
       const Ray &r = ctx->rays[RTCRayN_id(args->ray, n, i)];
       RTCRay o;
-      const Ray object = ref.entity->placementAt(r.time).inverse().applyRay(r);
+      const Ray object = objectRay(ref.entity->objectFromWorldAt(r.time), r);
       toEmbree(object, Vec3(), o.org_x, o.org_y, o.org_z, o.dir_x, o.dir_y, o.dir_z, o.tnear,
                o.tfar);
       o.tfar = std::min(o.tfar, tfar);

@@ -21,8 +21,9 @@ end
 
 --- A 200 x 200 square at y = 0 (facing +y) with uv running from -25 to 25
 --- across it, so a CheckerPigment2D gives 2-unit squares (paper, Listing 3).
-function Floor()
-  return Mesh() {
+--- Its arguments are Mesh's (an optional Transform), checked by Mesh.
+function Floor(...)
+  return Mesh(...) {
     vertices = {
       { -100.0, 0.0, -100.0 },
       { 100.0, 0.0, -100.0 },

@@ -27,9 +27,13 @@ namespace {
 // A distant origin makes the shapes' coefficients cancel: such rays are
 // re-origined by the shape's originShift before its test, and the returned
 // t is relative to that point.
-[[gnu::always_inline]] inline Ray shifted(const Ray &ray, double shift) {
-  if (shift == 0) return ray;
-  return {ray.at(shift), ray.d, ray.tMin - shift, ray.tMax - shift};
+// In place: a copy of the object ray, read in other pieces than it was
+// written in, stalled every shape test on store forwarding.
+[[gnu::always_inline]] inline void reorigin(Ray &ray, double by) {
+  if (by == 0) return;
+  ray.o = ray.at(by);
+  ray.tMin -= by;
+  ray.tMax -= by;
 }
 
 // Widen by a few double ulps of the coordinates, for the rounding of the
@@ -117,9 +121,9 @@ bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, con
 template <class S, class Placement>
 bool intersectAnalytic(const S &shape, const Mat4 &inverse, Placement placement,
                        uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
-  Ray farRay = objectRay(inverse, worldRay);
-  double shift = shape.originShift(farRay);
-  Ray ray = shifted(farRay, shift);
+  Ray ray = objectRay(inverse, worldRay);
+  const double shift = shape.originShift(ray);
+  reorigin(ray, shift);
   ObjectHit oh;
   if (!shape.intersect(ray, oh)) return false;
   return fillAnalytic(shape, placement(), entityIndex, worldRay, ray, shift, oh, hit);
@@ -224,11 +228,17 @@ bool occludedShape(const Entity &entity, const Ray &worldRay) {
         if constexpr (std::is_same_v<S, Csg>) {
           return occludedCsg(s, worldRay);
         } else if constexpr (kAnalyticShape<S>) {
-          const Ray ray = objectRay(entity.motion ? entity.motion->inverseMatrixAt(worldRay.time)
-                                                  : entity.worldFromObject.inverseMatrix(),
-                                    worldRay);
-          ObjectHit oh;
-          return s.intersect(shifted(ray, s.originShift(ray)), oh);
+          auto test = [&](const Mat4 &inverse) __attribute__((always_inline)) {
+            Ray ray = objectRay(inverse, worldRay);
+            reorigin(ray, s.originShift(ray));
+            ObjectHit oh;
+            return s.intersect(ray, oh);
+          };
+          // (Not one conditional expression: that would copy a static
+          // entity's inverse matrix on every test.)
+          if (!entity.motion) [[likely]]
+            return test(entity.worldFromObject.inverseMatrix());
+          return test(entity.motion->inverseMatrixAt(worldRay.time));
         } else {
           return false;
         }
@@ -240,9 +250,10 @@ int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shi
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
-          shift = s.originShift(farRay);
-          return s.spans(shifted(farRay, shift), out);
+          Ray ray = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
+          shift = s.originShift(ray);
+          reorigin(ray, shift);
+          return s.spans(ray, out);
         } else {
           shift = 0;
           return 0;
@@ -256,10 +267,11 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray farRay = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
-          double shift = s.originShift(farRay);
-          return fillAnalytic(s, entity.worldFromObject, entityIndex, worldRay,
-                              shifted(farRay, shift), shift, ObjectHit{tObject, part}, hit);
+          Ray ray = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
+          const double shift = s.originShift(ray);
+          reorigin(ray, shift);
+          return fillAnalytic(s, entity.worldFromObject, entityIndex, worldRay, ray, shift,
+                              ObjectHit{tObject, part}, hit);
         } else {
           return false;
         }

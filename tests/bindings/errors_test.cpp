@@ -96,6 +96,11 @@ TEST_F(BindingErrorTest, IntegerAttributesMustBePositiveIntegers) {
   EXPECT_EQ(runLua("Orthographic().fov = 30"), "test.lua:1: Orthographic: unknown attribute 'fov'");
   EXPECT_EQ(runLua("Spherical().aperture = 1"),
             "test.lua:1: Spherical: unknown attribute 'aperture'");
+  // Floor takes Mesh's arguments, checked as Mesh checks them.
+  EXPECT_EQ(runLua("local f = Floor(Translate(y))"), "");
+  EXPECT_EQ(runLua("local f = Floor(3)").rfind(
+                "test.lua:1: Mesh: argument 1 expects a Transform, got number", 0),
+            0u);
   EXPECT_EQ(runLua("SceneInfo().shutter = 1.5"),
             "test.lua:1: SceneInfo: attribute 'shutter' expects a number between 0 and 1, got 1.5");
   EXPECT_EQ(runLua("SceneInfo().motion_steps = 1"),

@@ -1,0 +1,77 @@
+#!/usr/bin/python3
+"""What motion blur costs (issue 36's target: a blurred frame at 16 samples
+per pixel takes at most 1.5x the same frame rendered sharp).
+
+Each case renders one frame with its shutter open (--shutter) and again
+closed (--shutter 0), 4 x 4 samples per pixel, on each backend, `--runs`
+times, and reports the medians of lray's own --stats times: `render` (the
+tiles), `build` (the acceleration structure) and `scene` (every
+scene(clock) call and the conversion; `scene_calls` of them with the
+shutter open). A table (markdown) goes to stdout. See bench/README.md,
+"Motion blur", for the current figures.
+
+    bench/motion/motion_cost.py                 # 2 threads, 3 runs
+    bench/motion/motion_cost.py --threads 1 --runs 5
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+LRAY = os.path.join(ROOT, "build", "lray")
+
+# name -> (scene, frame, shutter, extra options)
+CASES = {
+    "crowd (900 spheres drift, 900 cubes spin, a 20k-triangle cloth waves)":
+        (os.path.join(HERE, "scenes", "crowd.lua"), 0, "0.5", ["-w", "640", "-H", "360"]),
+    "motion.lua frame 0 (a spinning wheel, thin lens)":
+        (os.path.join(ROOT, "scenes", "motion.lua"), 0, "0.5", ["-w", "640", "-H", "320"]),
+    "ring.lua frame 2 (the camera orbits: every ray)":
+        (os.path.join(ROOT, "scenes", "ring.lua"), 2, "0.5", ["-w", "640", "-H", "480"]),
+}
+
+
+def run(scene, frame, shutter, extra, backend, threads, out):
+    stats = os.path.join(out, "stats.json")
+    subprocess.run([LRAY, scene, out, "-q", "--frames", f"{frame}:{frame}", "-s", "4",
+                    "--shutter", shutter, "--backend", backend, "-t", str(threads),
+                    "--stats", stats] + extra, check=True)
+    with open(stats) as f:
+        s = json.load(f)
+    return s["times"], s["frames"][0]["scene_calls"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--backends", nargs="+", default=["embree", "kdtree"])
+    args = ap.parse_args()
+    print(f"{args.threads} thread(s), 4 x 4 samples per pixel, medians of {args.runs} runs\n")
+    print("| scene | backend | render sharp (s) | render blurred (s) | ratio | build sharp / "
+          "blurred (s) | scene(clock) sharp / blurred (s, calls) |")
+    print("|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as out:
+        for name, (scene, frame, shutter, extra) in CASES.items():
+            for backend in args.backends:
+                times = {}
+                for open_ in ("0", shutter):
+                    runs = [run(scene, frame, open_, extra, backend, args.threads, out)
+                            for _ in range(args.runs)]
+                    times[open_] = ({k: statistics.median(r[0][k] for r in runs)
+                                     for k in ("render", "build", "scene")}, runs[0][1])
+                sharp, blurred = times["0"][0], times[shutter][0]
+                print(f"| {name} | {backend} | {sharp['render']:.3f} | {blurred['render']:.3f} | "
+                      f"{blurred['render'] / sharp['render']:.2f} | {sharp['build']:.3f} / "
+                      f"{blurred['build']:.3f} | {sharp['scene']:.3f} / {blurred['scene']:.3f} "
+                      f"({times[shutter][1]}) |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

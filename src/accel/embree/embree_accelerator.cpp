@@ -85,15 +85,18 @@ Ray objectRay(const Mat4 &objectFromWorld, const Ray &ray) {
           ray.tMax, ray.time};
 }
 
-/// `ray` as Embree's single ray, in the float frame about `origin`, with
-/// no hit yet.
+/// `ray` as Embree's single ray, in the float frame about `origin`.
+void toRay1(const Ray &ray, const Vec3 &origin, RTCRay &r) {
+  toEmbree(ray, origin, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
+  r.time = ray.time;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+}
+
+/// `ray` as Embree's single ray with a hit record (toRay1), no hit yet.
 void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
-  toEmbree(ray, origin, rh.ray.org_x, rh.ray.org_y, rh.ray.org_z, rh.ray.dir_x, rh.ray.dir_y,
-           rh.ray.dir_z, rh.ray.tnear, rh.ray.tfar);
-  rh.ray.time = ray.time;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  toRay1(ray, origin, rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
@@ -138,16 +141,33 @@ struct EmbreeCallbacks {
 
   static void bounds(const RTCBoundsFunctionArguments *args) {
     const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
-    Bounds3 b = shapeWorldBounds(*self->shapeRefs_[args->primID].entity);
-    // In the float frame; the subtraction's rounding is covered by rounding outwards.
-    const Vec3 &f = self->frameOrigin_;
-    RTCBounds *o = args->bounds_o;
-    o->lower_x = roundDown(b.lo.x - f.x);
-    o->lower_y = roundDown(b.lo.y - f.y);
-    o->lower_z = roundDown(b.lo.z - f.z);
-    o->upper_x = roundUp(b.hi.x - f.x);
-    o->upper_y = roundUp(b.hi.y - f.y);
-    o->upper_z = roundUp(b.hi.z - f.z);
+    setBounds(shapeWorldBounds(*self->shapeRefs_[args->primID].entity), self->frameOrigin_,
+              *args->bounds_o);
+  }
+
+  /// `b` for Embree, in the float frame about `f`; the subtraction's
+  /// rounding is covered by rounding outwards.
+  static void setBounds(const Bounds3 &b, const Vec3 &f, RTCBounds &o) {
+    o.lower_x = roundDown(b.lo.x - f.x);
+    o.lower_y = roundDown(b.lo.y - f.y);
+    o.lower_z = roundDown(b.lo.z - f.z);
+    o.upper_x = roundUp(b.hi.x - f.x);
+    o.upper_y = roundUp(b.hi.y - f.y);
+    o.upper_z = roundUp(b.hi.z - f.z);
+  }
+
+  /// Writes a hit into lane i of Embree's hit records: its normal and
+  /// barycentrics (float), and who was hit.
+  static void setHit(RTCHitN *hits, unsigned n, unsigned i, float ngx, float ngy, float ngz,
+                     float u, float v, unsigned primID, unsigned geomID, unsigned instID) {
+    RTCHitN_Ng_x(hits, n, i) = ngx;
+    RTCHitN_Ng_y(hits, n, i) = ngy;
+    RTCHitN_Ng_z(hits, n, i) = ngz;
+    RTCHitN_u(hits, n, i) = u;
+    RTCHitN_v(hits, n, i) = v;
+    RTCHitN_primID(hits, n, i) = primID;
+    RTCHitN_geomID(hits, n, i) = geomID;
+    RTCHitN_instID(hits, n, i, 0) = instID;
   }
 
   static void intersect(const RTCIntersectFunctionNArguments *args) {
@@ -176,14 +196,9 @@ struct EmbreeCallbacks {
       ctx->bestT[id] = h.t;
       ctx->hits[id] = h;
       RTCRayN_tfar(rays, n, i) = roundUp(h.t);
-      RTCHitN_Ng_x(hits, n, i) = static_cast<float>(h.ng.x);
-      RTCHitN_Ng_y(hits, n, i) = static_cast<float>(h.ng.y);
-      RTCHitN_Ng_z(hits, n, i) = static_cast<float>(h.ng.z);
-      RTCHitN_u(hits, n, i) = static_cast<float>(h.u);
-      RTCHitN_v(hits, n, i) = static_cast<float>(h.v);
-      RTCHitN_primID(hits, n, i) = args->primID;
-      RTCHitN_geomID(hits, n, i) = args->geomID;
-      RTCHitN_instID(hits, n, i, 0) = args->context->instID[0];
+      setHit(hits, n, i, static_cast<float>(h.ng.x), static_cast<float>(h.ng.y),
+             static_cast<float>(h.ng.z), static_cast<float>(h.u), static_cast<float>(h.v),
+             args->primID, args->geomID, args->context->instID[0]);
     }
   }
 
@@ -196,15 +211,8 @@ struct EmbreeCallbacks {
     const double segments = static_cast<double>(self->scene_.motionSteps - 1);
     const double t0 = std::max(0.0, (args->timeStep - 1.0) / segments);
     const double t1 = std::min(1.0, (args->timeStep + 1.0) / segments);
-    const Bounds3 b = e.isMesh() ? meshWorldBounds(e, t0, t1) : shapeWorldBounds(e, t0, t1);
-    const Vec3 &f = self->frameOrigin_;
-    RTCBounds *o = args->bounds_o;
-    o->lower_x = roundDown(b.lo.x - f.x);
-    o->lower_y = roundDown(b.lo.y - f.y);
-    o->lower_z = roundDown(b.lo.z - f.z);
-    o->upper_x = roundUp(b.hi.x - f.x);
-    o->upper_y = roundUp(b.hi.y - f.y);
-    o->upper_z = roundUp(b.hi.z - f.z);
+    setBounds(e.isMesh() ? meshWorldBounds(e, t0, t1) : shapeWorldBounds(e, t0, t1),
+              self->frameOrigin_, *args->bounds_o);
   }
 
   /// A moving mesh's nearest triangle for ray `r` (world space, its time),
@@ -236,14 +244,8 @@ struct EmbreeCallbacks {
       // Reported as the entity's own geometry ID (as a directly attached
       // mesh), so finishHit fills the triangle's hit record.
       RTCRayN_tfar(rays, n, i) = rh.ray.tfar;
-      RTCHitN_Ng_x(hits, n, i) = rh.hit.Ng_x;
-      RTCHitN_Ng_y(hits, n, i) = rh.hit.Ng_y;
-      RTCHitN_Ng_z(hits, n, i) = rh.hit.Ng_z;
-      RTCHitN_u(hits, n, i) = rh.hit.u;
-      RTCHitN_v(hits, n, i) = rh.hit.v;
-      RTCHitN_primID(hits, n, i) = rh.hit.primID;
-      RTCHitN_geomID(hits, n, i) = ref.index;
-      RTCHitN_instID(hits, n, i, 0) = RTC_INVALID_GEOMETRY_ID;
+      setHit(hits, n, i, rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z, rh.hit.u, rh.hit.v,
+             rh.hit.primID, ref.index, RTC_INVALID_GEOMETRY_ID);
     }
   }
 
@@ -251,27 +253,15 @@ struct EmbreeCallbacks {
     const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
     const EmbreeAccelerator::ShapeRef &ref = self->movingRefs_[args->primID];
     if (!ref.entity->isMesh()) return occludedShapeLanes(args, ref);
-    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
-    const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i) {
-      if (!args->valid[i]) continue;
-      float &tfar = RTCRayN_tfar(args->ray, n, i);
-      if (tfar < 0) continue; // already occluded
-      const Ray &r = ctx->rays[RTCRayN_id(args->ray, n, i)];
+    occludedLanes(args, [&ref](const Ray &r, float tfar) {
       RTCRay o;
-      const Ray object = objectRay(ref.entity->objectFromWorldAt(r.time), r);
-      toEmbree(object, Vec3(), o.org_x, o.org_y, o.org_z, o.dir_x, o.dir_y, o.dir_z, o.tnear,
-               o.tfar);
+      toRay1(objectRay(ref.entity->objectFromWorldAt(r.time), r), Vec3(), o);
       o.tfar = std::min(o.tfar, tfar);
-      o.time = r.time;
-      o.mask = 0xFFFFFFFFu;
-      o.id = 0;
-      o.flags = 0;
       RTCIntersectContext inner;
       rtcInitIntersectContext(&inner);
       rtcOccluded1(ref.meshScene, &inner, &o);
-      if (o.tfar < 0) tfar = -kInfinityF;
-    }
+      return o.tfar < 0;
+    });
   }
 
   static void occluded(const RTCOccludedFunctionNArguments *args) {
@@ -281,15 +271,24 @@ struct EmbreeCallbacks {
 
   static void occludedShapeLanes(const RTCOccludedFunctionNArguments *args,
                                  const EmbreeAccelerator::ShapeRef &shape) {
+    occludedLanes(args, [&shape](const Ray &ray, float tfar) {
+      Ray r = ray;
+      r.tMax = std::min(r.tMax, static_cast<double>(tfar));
+      return occludedShape(*shape.entity, r);
+    });
+  }
+
+  /// Marks each valid lane not yet occluded whose ray (the caller's double
+  /// ray, and Embree's tfar) `blocks` says is blocked.
+  template <class Blocks>
+  static void occludedLanes(const RTCOccludedFunctionNArguments *args, Blocks blocks) {
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
       if (!args->valid[i]) continue;
       float &tfar = RTCRayN_tfar(args->ray, n, i);
       if (tfar < 0) continue; // already occluded
-      Ray r = ctx->rays[RTCRayN_id(args->ray, n, i)];
-      r.tMax = std::min(r.tMax, static_cast<double>(tfar));
-      if (occludedShape(*shape.entity, r)) tfar = -kInfinityF;
+      if (blocks(ctx->rays[RTCRayN_id(args->ray, n, i)], tfar)) tfar = -kInfinityF;
     }
   }
 };
@@ -555,12 +554,7 @@ bool EmbreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
 bool EmbreeAccelerator::occluded(const Ray &ray) const {
   if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
   RTCRay r;
-  toEmbree(ray, frameOrigin_, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear,
-           r.tfar);
-  r.time = ray.time;
-  r.mask = 0xFFFFFFFFu;
-  r.id = 0;
-  r.flags = 0;
+  toRay1(ray, frameOrigin_, r);
   QueryContext ctx;
   rtcInitIntersectContext(&ctx.base);
   ctx.rays = &ray;

@@ -162,6 +162,7 @@ Bounds3 shapeWorldBounds(const Entity &entity, double t0, double t1) {
         using S = std::decay_t<decltype(s)>;
         // Meshes: meshObjectBounds + the backend's instance transform.
         if constexpr (std::is_same_v<S, Csg>) {
+          // Over the whole shutter when its leaves move (their bounds are).
           return s.tree ? s.tree->bounds : Bounds3();
         } else if constexpr (kAnalyticShape<S>) {
           if (!entity.motion) return padded(s.worldBounds(entity.worldFromObject.matrix()));
@@ -250,7 +251,10 @@ int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shi
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          Ray ray = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
+          // A moving leaf (its Entity::motion): where it is at the ray's time.
+          Ray ray = objectRay(entity.motion ? entity.motion->inverseMatrixAt(worldRay.time)
+                                            : entity.worldFromObject.inverseMatrix(),
+                              worldRay);
           shift = s.originShift(ray);
           reorigin(ray, shift);
           return s.spans(ray, out);
@@ -267,6 +271,14 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
+          if (entity.motion) {
+            const Transform moved = entity.motion->at(worldRay.time);
+            Ray ray = objectRay(moved.inverseMatrix(), worldRay);
+            const double shift = s.originShift(ray);
+            reorigin(ray, shift);
+            return fillAnalytic(s, moved, entityIndex, worldRay, ray, shift,
+                                ObjectHit{tObject, part}, hit);
+          }
           Ray ray = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
           const double shift = s.originShift(ray);
           reorigin(ray, shift);

@@ -3,6 +3,7 @@
 #include "run/scene_motion.h"
 
 #include "geometry/csg_tree.h"
+#include "geometry/shape.h"
 
 #include <fmt/format.h>
 
@@ -78,14 +79,17 @@ std::string shapeChange(const Entity &a, const Entity &b) {
   if (const auto *csgA = std::get_if<Csg>(&a.shape)) {
     const auto &treeA = csgA->tree, &treeB = std::get<Csg>(b.shape).tree;
     if (!treeA || !treeB) return treeA == treeB ? "" : "changes its parts";
-    if (treeA->leaves.size() != treeB->leaves.size()) return "changes its parts";
-    for (size_t i = 0; i < treeA->leaves.size(); ++i)
-      if (!(treeA->leaves[i].entity.worldFromObject.matrix() ==
-            treeB->leaves[i].entity.worldFromObject.matrix()))
-        return "moves (a moving CSG is not supported yet)";
+    if (treeA->leaves.size() != treeB->leaves.size() ||
+        treeA->nodes.size() != treeB->nodes.size())
+      return "changes its parts";
+    for (size_t i = 0; i < treeA->leaves.size(); ++i) {
+      const std::string change = shapeChange(treeA->leaves[i].entity, treeB->leaves[i].entity);
+      if (!change.empty()) return "changes its parts: part " + std::to_string(i + 1) + " " + change;
+    }
   }
   return "";
 }
+
 
 bool emits(const Scene &scene, const Entity &e) {
   return e.texture < scene.textures.size() && !scene.textures[e.texture].finish.emission.isBlack();
@@ -153,6 +157,27 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
   for (size_t i = 0; i < scene.entities.size(); ++i) {
     Entity &e = scene.entities[i];
     e.motion = motionOf([i](const Scene &sc) { return sc.entities[i].worldFromObject; });
+    bool moves = e.moves();
+    if (const Csg *csg = std::get_if<Csg>(&e.shape); csg && csg->tree) {
+      // A CSG's parts move each by its own placement: a copy of its tree
+      // whose leaves carry their motion and whose bounds hold the shutter.
+      auto tree = std::make_shared<CsgTree>(*csg->tree);
+      bool partsMove = false;
+      for (size_t part = 0; part < tree->leaves.size(); ++part) {
+        CsgTree::Leaf &leaf = tree->leaves[part];
+        leaf.entity.motion = motionOf([i, part](const Scene &sc) {
+          return std::get<Csg>(sc.entities[i].shape).tree->leaves[part].entity.worldFromObject;
+        });
+        if (!leaf.entity.motion) continue;
+        partsMove = true;
+        leaf.bounds = shapeWorldBounds(leaf.entity);
+      }
+      if (partsMove) {
+        tree->finish();
+        e.shape = Csg{std::move(tree)};
+        moves = true;
+      }
+    }
     if (e.isMesh() && e.mesh && !e.mesh->triangles.empty()) {
       // Vertices that move: the mesh at every step.
       auto motion = std::make_shared<MeshMotion>();
@@ -164,7 +189,7 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
       }
       if (deforms) e.vertexMotion = std::move(motion);
     }
-    if (e.moves() && pathTracer && emits(scene, e))
+    if (moves && pathTracer && emits(scene, e))
       throw SceneError(e.loc, fmt::format("motion blur: {} emits light and moves while the "
                                           "shutter is open, which the path tracer does not "
                                           "sample yet",

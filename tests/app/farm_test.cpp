@@ -48,6 +48,10 @@ TEST_F(Farm, TilesMergeIntoTheSameBytesAsTheWholeFrame) {
       {"--frames 3 --noise-threshold 0.03 --min-samples 1 --max-samples 64", "f0003.png"},
       {"--frames 1 --format exr --aovs -s 2", "f0001.exr"},
       {"--frames 1 --linear --format tga", "f0001.tga"},
+      // Motion blur (the CSG turns with the clock): each sample's time comes
+      // from its pixel and index, whatever the tile.
+      {"--frames 2 -s 2 --shutter 0.8 --motion-steps 3", "f0002.png"},
+      {"--frames 2 -s 2 --shutter 0.8 --backend kdtree", "f0002.png"},
   };
   for (const Mode &m : modes) {
     fs::path whole = dir_ / "whole", tiles = dir_ / "tiles";

@@ -3,6 +3,7 @@
 // values inside its shutter (brute force), on both backends, bit for bit the
 // same on both; the scenes of a shutter must match, and say where not.
 #include "bindings/scene_script.h"
+#include "geometry/csg_tree.h"
 #include "run/frame_pipeline.h"
 #include "run/scene_motion.h"
 #include "shading/image_cache.h"
@@ -20,8 +21,9 @@ namespace {
 // Everything that can move, moving as the interpolation represents exactly
 // (translations and vertices linear in the clock, turns at an even rate
 // about a fixed axis): a sphere sliding, a mesh spinning, a mesh whose top
-// corners slide (smooth, so its normals move too), the camera dollying, a
-// light sliding. Two steps are then exact, so brute force must agree.
+// corners slide (smooth, so its normals move too), a CSG turning about its
+// centre, the camera dollying, a light sliding. Two steps are then exact,
+// so brute force must agree.
 const char *kScene = R"lua(
 scene_info = SceneInfo() { image_width = 48, image_height = 32, samples = 16 }
 function scene(clock)
@@ -43,6 +45,9 @@ function scene(clock)
                  {-3.2 + 1.2 * clock, 1.6, 1.5}, {-1.8 + 1.2 * clock, 1.6, 2.5} },
     indices = { {1, 3, 2}, {2, 3, 4} },
     texture = Texture() { pigment = ColorPigment(Color(0.3, 0.8, 0.3)) } })
+  local turn = Translate(Vector(2.6, 0.6, 2)) * Rotate(y, 100 * clock)
+  s:add_entity(Difference { Cube(turn * Scale(1.1)), Sphere(turn * Scale(0.7)) } {
+    texture = Texture() { pigment = ColorPigment(Color(0.9, 0.8, 0.2)) } })
   s:add_light(Light() { transform = Translate(Vector(-5 + 6 * clock, 8, -4)) })
   return s
 end
@@ -152,7 +157,11 @@ TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
   EXPECT_EQ(calls, 4);
   EXPECT_EQ(scene.motionSteps, 4);
   EXPECT_EQ(motionClocks(info, 0), (std::vector<double>{0, 0.5 / 3, 1.0 / 3, 0.5}));
-  ASSERT_EQ(scene.entities.size(), 4u);
+  ASSERT_EQ(scene.entities.size(), 5u);
+  // The CSG: its parts move, each by its own placement.
+  const CsgTree &csg = *std::get<Csg>(scene.entities[4].shape).tree;
+  EXPECT_TRUE(csg.leaves[0].entity.motion);
+  EXPECT_TRUE(csg.leaves[1].entity.motion);
   EXPECT_FALSE(scene.entities[0].motion); // the floor stays
   ASSERT_TRUE(scene.entities[1].motion);
   EXPECT_EQ(scene.entities[1].motion->stepCount(), 4u);
@@ -198,6 +207,10 @@ TEST(MotionBlur, ScenesOfOneShutterThatDoNotMatchAreErrors) {
                 .find("entity 1 (Mesh, mismatch.lua:5) changes its triangles"),
             std::string::npos);
   EXPECT_NE(foldError("if clock > 0 then s:add_light(Light()) end").find("0 lights, then 1"),
+            std::string::npos);
+  EXPECT_NE(foldError("s:add_entity(Difference { Sphere(), clock > 0 and Sphere() or Cube() })")
+                .find("entity 1 (Difference, mismatch.lua:5) changes its parts: part 2 is a "
+                      "Sphere there"),
             std::string::npos);
   // The same scene at every step, things moving: fine.
   EXPECT_EQ(foldError("s:add_entity(Sphere(Translate(Vector(clock, 0, 0))))"), "");

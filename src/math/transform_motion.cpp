@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <cstdint>
 
 namespace lray {
@@ -127,6 +128,12 @@ void place(const Mat3 &l, const Mat3 &li, const Vec3 &t, Mat4 *forward, Mat4 *in
   }
 }
 
+/// A number no other TransformMotion of the process has (from 1).
+uint64_t nextSerial() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 } // namespace
 
 TransformParts decompose(const Mat4 &m) {
@@ -171,7 +178,8 @@ Mat4 compose(const TransformParts &parts) {
   return m;
 }
 
-TransformMotion::TransformMotion(std::vector<Transform> steps) : steps_(std::move(steps)) {
+TransformMotion::TransformMotion(std::vector<Transform> steps)
+    : steps_(std::move(steps)), serial_(nextSerial()) {
   parts_.reserve(steps_.size());
   for (const Transform &t : steps_) parts_.push_back(decompose(t.matrix()));
   for (size_t i = 0; i + 1 < parts_.size(); ++i) {
@@ -282,15 +290,17 @@ Mat4 TransformMotion::inverseMatrixAt(double time) const {
   // per light cell) test the same moving entities at the same time. A
   // small cache per thread, keyed by motion and time, answers those
   // repeats (the same bits: the matrix is a function of the two).
+  // Keyed by the motion's serial number, not its address: a later frame's
+  // motion may be built where an earlier one was.
   struct Entry {
-    const TransformMotion *motion = nullptr;
+    uint64_t serial = 0;
     double time = 0;
     Mat4 inverse;
   };
   thread_local std::array<Entry, 16> cache;
-  Entry &e = cache[(reinterpret_cast<uintptr_t>(this) >> 4) % cache.size()];
-  if (e.motion == this && e.time == time) return e.inverse;
-  e.motion = this;
+  Entry &e = cache[serial_ % cache.size()];
+  if (e.serial == serial_ && e.time == time) return e.inverse;
+  e.serial = serial_;
   e.time = time;
   e.inverse = computeInverseAt(time);
   return e.inverse;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace lray {
@@ -99,6 +100,7 @@ private:
   std::vector<Transform> steps_;
   std::vector<TransformParts> parts_;
   std::vector<Segment> segments_;
+  uint64_t serial_; ///< unique in the process: inverseMatrixAt's cache key
 };
 
 template <class BoundsAt>

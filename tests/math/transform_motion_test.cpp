@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 namespace lray {
 namespace {
@@ -69,6 +70,16 @@ TEST(TransformMotion, StepsSpreadEvenlyOverTheShutter) {
   expectNear(m.at(0.375).matrix(), Transform::translate({1.5, 2.5, 0}).matrix(), 1e-14);
   // Outside [0, 1]: clamped.
   EXPECT_EQ(m.at(2).matrix(), steps[4].matrix());
+}
+
+TEST(TransformMotion, AMotionBuiltWhereAnotherWasAnswersForItself) {
+  // A later frame's motion may live where an earlier one did: its inverse
+  // at the same time must be its own, whatever inverseMatrixAt remembers.
+  std::optional<TransformMotion> m;
+  m.emplace(std::vector<Transform>{Transform(), Transform::translate({1, 0, 0})});
+  EXPECT_EQ(m->inverseMatrixAt(0.5).m[0][3], -0.5);
+  m.emplace(std::vector<Transform>{Transform(), Transform::translate({3, 0, 0})});
+  EXPECT_EQ(m->inverseMatrixAt(0.5).m[0][3], -1.5);
 }
 
 TEST(TransformMotion, SweptBoundsHoldTheBoxAtEveryTime) {

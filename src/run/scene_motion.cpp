@@ -157,12 +157,11 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
   for (size_t i = 0; i < scene.entities.size(); ++i) {
     Entity &e = scene.entities[i];
     e.motion = motionOf([i](const Scene &sc) { return sc.entities[i].worldFromObject; });
-    bool moves = e.moves();
+    bool partsMove = false;
     if (const Csg *csg = std::get_if<Csg>(&e.shape); csg && csg->tree) {
       // A CSG's parts move each by its own placement: a copy of its tree
       // whose leaves carry their motion and whose bounds hold the shutter.
       auto tree = std::make_shared<CsgTree>(*csg->tree);
-      bool partsMove = false;
       for (size_t part = 0; part < tree->leaves.size(); ++part) {
         CsgTree::Leaf &leaf = tree->leaves[part];
         leaf.entity.motion = motionOf([i, part](const Scene &sc) {
@@ -175,7 +174,6 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
       if (partsMove) {
         tree->finish();
         e.shape = Csg{std::move(tree)};
-        moves = true;
       }
     }
     if (e.isMesh() && e.mesh && !e.mesh->triangles.empty()) {
@@ -189,7 +187,7 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
       }
       if (deforms) e.vertexMotion = std::move(motion);
     }
-    if (moves && pathTracer && emits(scene, e))
+    if ((e.moves() || partsMove) && pathTracer && emits(scene, e))
       throw SceneError(e.loc, fmt::format("motion blur: {} emits light and moves while the "
                                           "shutter is open, which the path tracer does not "
                                           "sample yet",

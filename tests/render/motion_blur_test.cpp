@@ -212,6 +212,28 @@ TEST(MotionBlur, ScenesOfOneShutterThatDoNotMatchAreErrors) {
                 .find("entity 1 (Difference, mismatch.lua:5) changes its parts: part 2 is a "
                       "Sphere there"),
             std::string::npos);
+  // An emitter the path tracer would sample where it starts: refused,
+  // whether it moves by its transform or its vertices.
+  const std::string glow =
+      "texture = Texture() { finish = Finish() { emission = Color(1, 1, 1) } } }";
+  for (const std::string &emitter :
+       {"Sphere(Translate(Vector(clock, 0, 0))) { " + glow,
+        "Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1 + clock, 0} }, indices = { {1, 3, 2} "
+        "}, " + glow}) {
+    const std::string source = "scene_info = SceneInfo() { image_width = 8, image_height = 8, "
+                               "shutter = 1, integrator = 'path' }\n"
+                               "function scene(clock)\n  local s = Scene()\n  s:add_entity(" +
+                               emitter + ")\n  return s\nend\n";
+    SceneScript script = SceneScript::fromString(source, "glow.lua");
+    int calls = 0;
+    try {
+      buildFrameScene(script, script.info(), 0, calls);
+      ADD_FAILURE() << emitter;
+    } catch (const SceneError &e) {
+      EXPECT_NE(std::string(e.what()).find("emits light and moves"), std::string::npos)
+          << e.what();
+    }
+  }
   // The same scene at every step, things moving: fine.
   EXPECT_EQ(foldError("s:add_entity(Sphere(Translate(Vector(clock, 0, 0))))"), "");
   EXPECT_EQ(foldError("s:add_entity(Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, "

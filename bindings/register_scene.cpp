@@ -100,6 +100,17 @@ int addList(lua_State *L, const char *method) {
 
 template <class K> void lightDefaults(LightObj &l) { l.light = K{}; }
 
+/// Constructor argument `index` of class `cls`, when given: checked by
+/// `valid` (validators.h), as an attribute's value is, and stored in `into`.
+void numberArgument(const char *cls, int index, std::optional<double> value,
+                    const char *(*valid)(const double &), double &into) {
+  if (!value) return;
+  if (const char *expected = valid(*value))
+    throw ScriptError(std::string(cls) + ": argument " + std::to_string(index) + " expects " +
+                      expected + ", got " + formatNumber(*value));
+  into = *value;
+}
+
 /// The parameters of a light of class K (for partAttr).
 template <class K> K &params(LightObj &l) { return std::get<K>(l.light); }
 
@@ -127,18 +138,8 @@ void registerSceneClasses(Registry &reg) {
 
   reg.cls<CameraObj>("Perspective")
       .ctor(+[](CameraObj &c, std::optional<double> fov, std::optional<double> aspect) {
-        if (fov) {
-          if (const char *expected = fieldOfView(*fov))
-            throw ScriptError(std::string("Perspective: argument 1 expects ") + expected +
-                              ", got " + formatNumber(*fov));
-          c.fov = *fov;
-        }
-        if (aspect) {
-          if (!(*aspect > 0))
-            throw ScriptError("Perspective: argument 2 expects a positive number, got " +
-                              formatNumber(*aspect));
-          c.aspect = *aspect;
-        }
+        numberArgument("Perspective", 1, fov, fieldOfView, c.fov);
+        numberArgument("Perspective", 2, aspect, positiveNumber, c.aspect);
       })
       .attr("transform", &Camera::worldFromCamera)
       .attr("fov", &Camera::fov, fieldOfView)
@@ -149,18 +150,8 @@ void registerSceneClasses(Registry &reg) {
   reg.cls<CameraObj>("Orthographic")
       .defaults(+[](CameraObj &c) { c.kind = CameraKind::Orthographic; })
       .ctor(+[](CameraObj &c, std::optional<double> width, std::optional<double> aspect) {
-        if (width) {
-          if (!(*width > 0))
-            throw ScriptError("Orthographic: argument 1 expects a positive number, got " +
-                              formatNumber(*width));
-          c.width = *width;
-        }
-        if (aspect) {
-          if (!(*aspect > 0))
-            throw ScriptError("Orthographic: argument 2 expects a positive number, got " +
-                              formatNumber(*aspect));
-          c.aspect = *aspect;
-        }
+        numberArgument("Orthographic", 1, width, positiveNumber, c.width);
+        numberArgument("Orthographic", 2, aspect, positiveNumber, c.aspect);
       })
       .attr("transform", &Camera::worldFromCamera)
       .attr("width", &Camera::width, positiveNumber)

@@ -21,7 +21,16 @@ namespace {
 // store-forwarding stall per shape test).
 [[gnu::always_inline]] inline Ray objectRay(const Mat4 &inv, const Ray &worldRay) {
   return {affinePoint(inv, worldRay.o), affineVector(inv, worldRay.d), worldRay.tMin,
-          worldRay.tMax};
+          worldRay.tMax, worldRay.time};
+}
+
+/// `worldRay` in the object space of `entity` where it is at the ray's time.
+/// (Not one conditional expression: that would copy a static entity's
+/// inverse matrix on every test.)
+[[gnu::always_inline]] inline Ray objectRayAt(const Entity &entity, const Ray &worldRay) {
+  if (!entity.motion) [[likely]]
+    return objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
+  return objectRay(entity.motion->inverseMatrixAt(worldRay.time), worldRay);
 }
 
 // A distant origin makes the shapes' coefficients cancel: such rays are
@@ -191,6 +200,10 @@ Bounds3 transformedBounds(const Bounds3 &objectBox, const Transform &worldFromOb
   return {world.lo - pad, world.hi + pad};
 }
 
+Ray objectSpaceRay(const Entity &entity, const Ray &worldRay) {
+  return objectRayAt(entity, worldRay);
+}
+
 Bounds3 meshWorldBounds(const Entity &entity, double t0, double t1) {
   if (!entity.mesh) return {};
   const Bounds3 objectBox =
@@ -229,17 +242,10 @@ bool occludedShape(const Entity &entity, const Ray &worldRay) {
         if constexpr (std::is_same_v<S, Csg>) {
           return occludedCsg(s, worldRay);
         } else if constexpr (kAnalyticShape<S>) {
-          auto test = [&](const Mat4 &inverse) __attribute__((always_inline)) {
-            Ray ray = objectRay(inverse, worldRay);
-            reorigin(ray, s.originShift(ray));
-            ObjectHit oh;
-            return s.intersect(ray, oh);
-          };
-          // (Not one conditional expression: that would copy a static
-          // entity's inverse matrix on every test.)
-          if (!entity.motion) [[likely]]
-            return test(entity.worldFromObject.inverseMatrix());
-          return test(entity.motion->inverseMatrixAt(worldRay.time));
+          Ray ray = objectRayAt(entity, worldRay);
+          reorigin(ray, s.originShift(ray));
+          ObjectHit oh;
+          return s.intersect(ray, oh);
         } else {
           return false;
         }
@@ -251,10 +257,7 @@ int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shi
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          // A moving leaf (its Entity::motion): where it is at the ray's time.
-          Ray ray = objectRay(entity.motion ? entity.motion->inverseMatrixAt(worldRay.time)
-                                            : entity.worldFromObject.inverseMatrix(),
-                              worldRay);
+          Ray ray = objectRayAt(entity, worldRay); // a moving leaf where it is then
           shift = s.originShift(ray);
           reorigin(ray, shift);
           return s.spans(ray, out);
@@ -271,19 +274,15 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
   return std::visit(
       [&](const auto &s) {
         if constexpr (kPrimitiveShape<std::decay_t<decltype(s)>>) {
-          if (entity.motion) {
-            const Transform moved = entity.motion->at(worldRay.time);
-            Ray ray = objectRay(moved.inverseMatrix(), worldRay);
+          auto fill = [&](const Transform &xf) {
+            Ray ray = objectRay(xf.inverseMatrix(), worldRay);
             const double shift = s.originShift(ray);
             reorigin(ray, shift);
-            return fillAnalytic(s, moved, entityIndex, worldRay, ray, shift,
+            return fillAnalytic(s, xf, entityIndex, worldRay, ray, shift,
                                 ObjectHit{tObject, part}, hit);
-          }
-          Ray ray = objectRay(entity.worldFromObject.inverseMatrix(), worldRay);
-          const double shift = s.originShift(ray);
-          reorigin(ray, shift);
-          return fillAnalytic(s, entity.worldFromObject, entityIndex, worldRay, ray, shift,
-                              ObjectHit{tObject, part}, hit);
+          };
+          if (!entity.motion) return fill(entity.worldFromObject);
+          return fill(entity.motion->at(worldRay.time)); // a moving leaf where it is then
         } else {
           return false;
         }

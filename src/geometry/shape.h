@@ -45,6 +45,10 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
 /// Object-space bounds of a mesh (positions as stored).
 Bounds3 meshObjectBounds(const MeshData &mesh);
 
+/// `worldRay` (its time kept) in the object space of `entity`, placed where
+/// it is at the ray's time: the same parameter t in both spaces.
+Ray objectSpaceRay(const Entity &entity, const Ray &worldRay);
+
 /// World bounds of a mesh entity over the shutter times [t0, t1]: its
 /// vertices at every motion step (Entity::vertexMotion) placed by its
 /// transform, or swept by its motion (Entity::motion).

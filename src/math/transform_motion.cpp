@@ -166,15 +166,8 @@ TransformParts decompose(const Mat4 &m) {
 }
 
 Mat4 compose(const TransformParts &parts) {
-  const Mat3 l = product(toMatrix(parts.rotation), parts.stretch);
   Mat4 m;
-  m.m[3] = {0, 0, 0, 1};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      m.m[i][j] = l[i][j];
-  m.m[0][3] = parts.translation.x;
-  m.m[1][3] = parts.translation.y;
-  m.m[2][3] = parts.translation.z;
+  place(product(toMatrix(parts.rotation), parts.stretch), Mat3{}, parts.translation, &m, nullptr);
   return m;
 }
 
@@ -263,17 +256,10 @@ void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inv
   place(product(blend(s.rotation), stretch), Mat3{}, t, forward, nullptr);
 }
 
-void TransformMotion::locate(double time, size_t &i, double &u) const {
-  const size_t segments = steps_.size() - 1;
-  const double x = std::clamp(time, 0.0, 1.0) * static_cast<double>(segments);
-  i = std::min(static_cast<size_t>(x), segments - 1);
-  u = x - static_cast<double>(i);
-}
-
 Transform TransformMotion::at(double time) const {
   size_t i;
   double u;
-  locate(time, i, u);
+  locateMotionStep(time, steps_.size(), i, u);
   if (u == 0) return steps_[i];
   if (u == 1) return steps_[i + 1];
   Mat4 m, inverse;
@@ -309,7 +295,7 @@ Mat4 TransformMotion::inverseMatrixAt(double time) const {
 Mat4 TransformMotion::computeInverseAt(double time) const {
   size_t i;
   double u;
-  locate(time, i, u);
+  locateMotionStep(time, steps_.size(), i, u);
   if (u == 0) return steps_[i].inverseMatrix();
   if (u == 1) return steps_[i + 1].inverseMatrix();
   if (!segments_[i].fixedStretch) return at(time).inverseMatrix();
@@ -321,7 +307,7 @@ Mat4 TransformMotion::computeInverseAt(double time) const {
 Mat4 TransformMotion::matrixAt(double time) const {
   size_t i;
   double u;
-  locate(time, i, u);
+  locateMotionStep(time, steps_.size(), i, u);
   if (u == 0) return steps_[i].matrix();
   if (u == 1) return steps_[i + 1].matrix();
   Mat4 m;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "math/bounds.h"
+#include "math/motion_steps.h"
 #include "math/transform.h"
 #include "math/vec3.h"
 
@@ -88,8 +89,6 @@ private:
   };
   /// inverseMatrixAt without its cache.
   Mat4 computeInverseAt(double time) const;
-  /// Where `time` falls: segment i (steps i and i + 1) and the fraction u.
-  void locate(double time, size_t &i, double &u) const;
   /// Segment i's matrix at fraction u (when `forward` is given) and, for a
   /// fixed stretch, its inverse (when `inverse` is).
   void segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/bounds.h"
+#include "math/motion_steps.h"
 #include "scene/mesh_data.h"
 
 #include <algorithm>
@@ -22,14 +23,14 @@ struct MeshMotion {
   Vec3 position(uint32_t v, double time) const {
     size_t i;
     double u;
-    locate(time, i, u);
+    locateMotionStep(time, steps.size(), i, u);
     return lerp(steps[i]->positions[v], steps[i + 1]->positions[v], u);
   }
   /// Normal `n` (an index into MeshData::normals) at `time`, not normalised.
   Vec3 normal(uint32_t n, double time) const {
     size_t i;
     double u;
-    locate(time, i, u);
+    locateMotionStep(time, steps.size(), i, u);
     return lerp(steps[i]->normals[n], steps[i + 1]->normals[n], u);
   }
   /// Bounds of triangle `t` at every time: of its corners at every step
@@ -52,12 +53,6 @@ struct MeshMotion {
   }
 
 private:
-  void locate(double time, size_t &i, double &u) const {
-    const size_t segments = steps.size() - 1;
-    const double x = std::clamp(time, 0.0, 1.0) * static_cast<double>(segments);
-    i = std::min(static_cast<size_t>(x), segments - 1);
-    u = x - static_cast<double>(i);
-  }
   static Vec3 lerp(const Vec3f &a, const Vec3f &b, double u) {
     return toVec3(a) * (1 - u) + toVec3(b) * u;
   }

@@ -127,10 +127,6 @@ struct Entity {
 
   /// Whether anything about it moves while the shutter is open.
   bool moves() const { return motion || vertexMotion; }
-  /// The inverse of its placement at `time` (Ray::time): world to object.
-  Mat4 objectFromWorldAt(double time) const {
-    return motion ? motion->inverseMatrixAt(time) : worldFromObject.inverseMatrix();
-  }
 
   ShapeKind kind() const { return static_cast<ShapeKind>(shape.index()); }
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }

@@ -21,7 +21,6 @@
 #include "accel/embree/embree_accelerator.h"
 
 #include "geometry/float_frame.h"
-#include "math/affine.h"
 #include "geometry/shape.h"
 #include "geometry/triangle_prefetch.h"
 
@@ -77,12 +76,6 @@ void toEmbree(const Ray &r, const Vec3 &frame, float &ox, float &oy, float &oz, 
   dz = static_cast<float>(r.d.z);
   tnear = std::max(0.0f, roundDown(r.tMin));
   tfar = roundUp(r.tMax);
-}
-
-/// `ray` taken into object space by `objectFromWorld` (its time kept).
-Ray objectRay(const Mat4 &objectFromWorld, const Ray &ray) {
-  return {affinePoint(objectFromWorld, ray.o), affineVector(objectFromWorld, ray.d), ray.tMin,
-          ray.tMax, ray.time};
 }
 
 /// `ray` as Embree's single ray, in the float frame about `origin`.
@@ -219,7 +212,7 @@ struct EmbreeCallbacks {
   /// nearer than `tfar`: traced in the mesh's own scene in object space.
   static bool movingMeshHit(const EmbreeAccelerator::ShapeRef &ref, const Ray &r, float tfar,
                             RTCRayHit &rh) {
-    const Ray o = objectRay(ref.entity->objectFromWorldAt(r.time), r);
+    const Ray o = objectSpaceRay(*ref.entity, r);
     toRayHit1(o, Vec3(), rh);
     rh.ray.tfar = std::min(rh.ray.tfar, tfar);
     RTCIntersectContext inner;
@@ -255,7 +248,7 @@ struct EmbreeCallbacks {
     if (!ref.entity->isMesh()) return occludedShapeLanes(args, ref);
     occludedLanes(args, [&ref](const Ray &r, float tfar) {
       RTCRay o;
-      toRay1(objectRay(ref.entity->objectFromWorldAt(r.time), r), Vec3(), o);
+      toRay1(objectSpaceRay(*ref.entity, r), Vec3(), o);
       o.tfar = std::min(o.tfar, tfar);
       RTCIntersectContext inner;
       rtcInitIntersectContext(&inner);

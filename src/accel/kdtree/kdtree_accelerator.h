@@ -11,7 +11,7 @@
 #include "accel/unbounded_shapes.h"
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"
-#include "math/affine.h"
+#include "geometry/shape.h"
 #include "math/transform.h"
 
 #include <cstdint>
@@ -105,10 +105,7 @@ private:
   /// `ray` (world space) in the object space of mesh instance `inst`.
   Ray objectRayOf(const Instance &inst, const Ray &ray) const {
     if (inst.transform == kIdentity) return ray;
-    if (inst.transform == kMoving) {
-      const Mat4 inv = scene_.entities[inst.entity].motion->inverseMatrixAt(ray.time);
-      return {affinePoint(inv, ray.o), affineVector(inv, ray.d), ray.tMin, ray.tMax, ray.time};
-    }
+    if (inst.transform == kMoving) return objectSpaceRay(scene_.entities[inst.entity], ray);
     return transforms_[inst.transform].applyRay(ray);
   }
   /// The nearest (AnyHit: any) triangle of a mesh instance with t in

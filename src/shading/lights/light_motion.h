@@ -4,9 +4,9 @@
 // light keeps the orientation and size it has at step 0.
 #pragma once
 
+#include "math/motion_steps.h"
 #include "math/vec3.h"
 
-#include <algorithm>
 #include <vector>
 
 namespace lray {
@@ -16,10 +16,9 @@ struct LightMotion {
 
   /// The offset at shutter time `time` in [0, 1] (clamped).
   Vec3 at(double time) const {
-    const size_t segments = offsets.size() - 1;
-    const double x = std::clamp(time, 0.0, 1.0) * static_cast<double>(segments);
-    const size_t i = std::min(static_cast<size_t>(x), segments - 1);
-    const double u = x - static_cast<double>(i);
+    size_t i;
+    double u;
+    locateMotionStep(time, offsets.size(), i, u);
     return offsets[i] * (1 - u) + offsets[i + 1] * u;
   }
 };

@@ -212,6 +212,35 @@ Bounds3 meshWorldBounds(const Entity &entity, double t0, double t1) {
                        : transformedBounds(objectBox, entity.worldFromObject);
 }
 
+Bounds3 stepWorldBounds(const Entity &entity, size_t step) {
+  if (entity.isMesh()) {
+    if (!entity.mesh) return {};
+    if (!entity.motion) // only its vertices move (in straight lines)
+      return transformedBounds(meshObjectBounds(*entity.vertexMotion->steps[step]),
+                               entity.worldFromObject);
+    const Bounds3 objectBox =
+        entity.vertexMotion ? entity.vertexMotion->bounds() : meshObjectBounds(*entity.mesh);
+    return entity.motion->stepBounds(objectBox, step, [&](const Transform &xf) {
+      return transformedBounds(objectBox, xf);
+    });
+  }
+  return std::visit(
+      [&](const auto &s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kAnalyticShape<S> && !std::is_same_v<S, Csg>) {
+          if constexpr (S::kBounded) {
+            if (entity.motion)
+              return entity.motion->stepBounds(s.worldBounds(Mat4::identity()), step,
+                                               [&](const Transform &xf) {
+                                                 return padded(s.worldBounds(xf.matrix()));
+                                               });
+          }
+        }
+        return shapeWorldBounds(entity); // a CSG's: over the whole shutter
+      },
+      entity.shape);
+}
+
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
   return std::visit(
       [&](const auto &s) {

@@ -54,6 +54,12 @@ Ray objectSpaceRay(const Entity &entity, const Ray &worldRay);
 /// transform, or swept by its motion (Entity::motion).
 Bounds3 meshWorldBounds(const Entity &entity, double t0 = 0, double t1 = 1);
 
+/// World bounds of a moving entity (analytic or mesh) at motion step
+/// `step`, such that the linear blend of neighbouring steps' bounds holds
+/// it at every time between them (TransformMotion::stepBounds; a CSG's
+/// bounds over the whole shutter at every step).
+Bounds3 stepWorldBounds(const Entity &entity, size_t step);
+
 /// World bounds of an object-space box placed by `worldFromObject`: its
 /// eight corners transformed, widened by a few ulps for the rounding of the
 /// transform. An empty box stays empty.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <atomic>
 #include <cstdint>
+#include <cstring>
 
 namespace lray {
 
@@ -231,6 +232,28 @@ TransformMotion::TransformMotion(std::vector<Transform> steps)
   }
 }
 
+namespace {
+
+/// out = P + c Q + sn W for a segment's three fixed matrices `pqw`, placed
+/// with translation `t`: after the blend (a forward matrix) or, for an
+/// inverse, as -blend * t. Written straight into `out`: this runs once per
+/// moving entity a ray tests.
+inline void blendPlaced(const std::array<std::array<std::array<double, 3>, 3>, 3> &pqw, double c,
+                        double sn, const Vec3 &t, bool inverse, Mat4 &out) {
+  // In locals first: stores into `out` could alias the reads.
+  double m[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) m[a][b] = pqw[0][a][b] + c * pqw[1][a][b] + sn * pqw[2][a][b];
+  const double shift[3] = {t.x, t.y, t.z};
+  for (int a = 0; a < 3; ++a) {
+    const double last = inverse ? -(m[a][0] * t.x + m[a][1] * t.y + m[a][2] * t.z) : shift[a];
+    out.m[a] = {m[a][0], m[a][1], m[a][2], last};
+  }
+  out.m[3] = {0, 0, 0, 1};
+}
+
+} // namespace
+
 void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const {
   const Segment &s = segments_[i];
   const Vec3 t = s.translation + s.translationChange * u;
@@ -239,21 +262,18 @@ void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inv
     sn = std::sin(2 * u * s.theta);
     c = std::cos(2 * u * s.theta);
   }
-  auto blend = [c, sn](const std::array<Mat3, 3> &m) {
-    Mat3 r;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) r[a][b] = m[0][a][b] + c * m[1][a][b] + sn * m[2][a][b];
-    return r;
-  };
   if (s.fixedStretch) {
-    place(forward ? blend(s.linear) : Mat3{}, inverse ? blend(s.linearInverse) : Mat3{}, t,
-          forward, inverse);
+    if (forward) blendPlaced(s.linear, c, sn, t, false, *forward);
+    if (inverse) blendPlaced(s.linearInverse, c, sn, t, true, *inverse);
     return;
   }
-  Mat3 stretch = s.stretch;
+  Mat3 rotation, stretch = s.stretch;
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) stretch[a][b] += s.stretchChange[a][b] * u;
-  place(product(blend(s.rotation), stretch), Mat3{}, t, forward, nullptr);
+    for (int b = 0; b < 3; ++b) {
+      rotation[a][b] = s.rotation[0][a][b] + c * s.rotation[1][a][b] + sn * s.rotation[2][a][b];
+      stretch[a][b] += s.stretchChange[a][b] * u;
+    }
+  place(product(rotation, stretch), Mat3{}, t, forward, nullptr);
 }
 
 Transform TransformMotion::at(double time) const {
@@ -274,34 +294,43 @@ Transform TransformMotion::at(double time) const {
 Mat4 TransformMotion::inverseMatrixAt(double time) const {
   // The rays of one camera sample share its time: its shadow rays (one
   // per light cell) test the same moving entities at the same time. A
-  // small cache per thread, keyed by motion and time, answers those
-  // repeats (the same bits: the matrix is a function of the two).
-  // Keyed by the motion's serial number, not its address: a later frame's
-  // motion may be built where an earlier one was.
+  // cache per thread, keyed by motion and time, answers those repeats (the
+  // same bits: the matrix is a function of the two). It holds a tile's
+  // worth: the light loop traces cell 0's shadow rays for all of a tile's
+  // samples (up to Integrator::kMaxTileRays, each at its own time) before
+  // cell 1's. Keyed by the motion's serial number, not its address: a
+  // later frame's motion may be built where an earlier one was.
   struct Entry {
     uint64_t serial = 0;
     double time = 0;
     Mat4 inverse;
   };
-  thread_local std::array<Entry, 16> cache;
-  Entry &e = cache[serial_ % cache.size()];
+  constexpr size_t kEntries = 4096; // 576 KiB, within a core's L2
+  thread_local std::vector<Entry> cache(kEntries);
+  uint64_t bits;
+  std::memcpy(&bits, &time, sizeof bits);
+  const uint64_t hash = (bits ^ (serial_ * 0x9e3779b97f4a7c15ull)) * 0xff51afd7ed558ccdull;
+  Entry &e = cache[hash >> 52];
   if (e.serial == serial_ && e.time == time) return e.inverse;
   e.serial = serial_;
   e.time = time;
-  e.inverse = computeInverseAt(time);
+  computeInverseAt(time, e.inverse);
   return e.inverse;
 }
 
-Mat4 TransformMotion::computeInverseAt(double time) const {
+void TransformMotion::computeInverseAt(double time, Mat4 &inverse) const {
   size_t i;
   double u;
   locateMotionStep(time, steps_.size(), i, u);
-  if (u == 0) return steps_[i].inverseMatrix();
-  if (u == 1) return steps_[i + 1].inverseMatrix();
-  if (!segments_[i].fixedStretch) return at(time).inverseMatrix();
-  Mat4 inverse;
-  segmentMatrix(i, u, nullptr, &inverse);
-  return inverse;
+  if (u == 0) {
+    inverse = steps_[i].inverseMatrix();
+  } else if (u == 1) {
+    inverse = steps_[i + 1].inverseMatrix();
+  } else if (segments_[i].fixedStretch) {
+    segmentMatrix(i, u, nullptr, &inverse);
+  } else {
+    inverse = at(time).inverseMatrix();
+  }
 }
 
 Mat4 TransformMotion::matrixAt(double time) const {

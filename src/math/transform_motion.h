@@ -68,6 +68,16 @@ public:
   template <class BoundsAt>
   Bounds3 sweptBounds(const Bounds3 &objectBox, double t0, double t1, BoundsAt boundsAt) const;
 
+  /// The placed object's bounds at motion step `step` (from `boundsAt`, as
+  /// for sweptBounds), widened so that the linear blend of two neighbouring
+  /// steps' boxes holds the object over the whole segment between them (a
+  /// backend that blends step bounds by the ray's time, as Embree does).
+  /// Each segment next to the step is sampled: the widening is the most a
+  /// sampled box pokes out of the blend, plus how far the object and the
+  /// blend can move between two samples.
+  template <class BoundsAt>
+  Bounds3 stepBounds(const Bounds3 &objectBox, size_t step, BoundsAt boundsAt) const;
+
 private:
   using Mat3 = std::array<std::array<double, 3>, 3>;
   /// What interpolating over segment i (steps i and i + 1) needs, set up
@@ -87,8 +97,8 @@ private:
     bool fixedStretch = false;
     std::array<Mat3, 3> linear{}, linearInverse{};
   };
-  /// inverseMatrixAt without its cache.
-  Mat4 computeInverseAt(double time) const;
+  /// inverseMatrixAt without its cache, written into `inverse`.
+  void computeInverseAt(double time, Mat4 &inverse) const;
   /// Segment i's matrix at fraction u (when `forward` is given) and, for a
   /// fixed stretch, its inverse (when `inverse` is).
   void segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const;
@@ -128,6 +138,39 @@ Bounds3 TransformMotion::sweptBounds(const Bounds3 &objectBox, double t0, double
   out.extend(boundsAt(at(t1)));
   const Vec3 pad(gap, gap, gap);
   return {out.lo - pad, out.hi + pad};
+}
+
+template <class BoundsAt>
+Bounds3 TransformMotion::stepBounds(const Bounds3 &objectBox, size_t step,
+                                    BoundsAt boundsAt) const {
+  if (objectBox.empty()) return {};
+  const size_t segments = steps_.size() - 1;
+  const Bounds3 here = boundsAt(steps_[step]);
+  const Vec3 extent = objectBox.hi - objectBox.lo;
+  const double size = std::max({extent.x, extent.y, extent.z, 1e-300});
+  double pad = 0;
+  for (size_t i = step == 0 ? 0 : step - 1; i <= std::min(step, segments - 1); ++i) {
+    const Bounds3 a = i == step ? here : boundsAt(steps_[i]);
+    const Bounds3 b = i == step ? boundsAt(steps_[i + 1]) : here;
+    // How far the object and the blend's faces move over the segment.
+    double speed = segmentSpeed(i, objectBox);
+    for (int k = 0; k < 3; ++k)
+      speed += std::max(std::fabs(b.lo[k] - a.lo[k]), std::fabs(b.hi[k] - a.hi[k]));
+    const int samples = static_cast<int>(std::clamp(std::ceil(speed / (0.01 * size)), 8.0, 256.0));
+    double poke = 0;
+    for (int j = 1; j < samples; ++j) {
+      const double u = double(j) / samples;
+      const Bounds3 box = boundsAt(at((double(i) + u) / double(segments)));
+      for (int k = 0; k < 3; ++k)
+        poke = std::max({poke, a.lo[k] + (b.lo[k] - a.lo[k]) * u - box.lo[k],
+                         box.hi[k] - (a.hi[k] + (b.hi[k] - a.hi[k]) * u)});
+    }
+    // The blend is read at times up to 1e-6 of a segment off the ray's
+    // (a backend's float time).
+    pad = std::max(pad, poke + speed * (0.5 / samples + 1e-6));
+  }
+  pad *= 1 + 1e-9;
+  return {here.lo - Vec3(pad, pad, pad), here.hi + Vec3(pad, pad, pad)};
 }
 
 } // namespace lray

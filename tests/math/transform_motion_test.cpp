@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <optional>
+#include <vector>
 
 namespace lray {
 namespace {
@@ -113,6 +114,45 @@ TEST(TransformMotion, SweptBoundsHoldTheBoxAtEveryTime) {
   // Not grossly loose: some corner comes within a tenth of a unit of it.
   EXPECT_LT(slack, 0.1);
   EXPECT_LT(firstHalf.hi.x, all.hi.x);
+}
+
+// What Embree does with a moving primitive's step bounds: blends two
+// neighbouring steps' boxes linearly by the ray's time.
+TEST(TransformMotion, BlendedStepBoundsHoldTheBoxAtEveryTime) {
+  const Bounds3 box({-1, -0.5, -2}, {1, 0.5, 2});
+  const TransformMotion m({Transform::translate({0, 0, 0}),
+                           Transform::translate({3, 1, 0}) * Transform::rotate({1, 1, 0}, 170) *
+                               Transform::scale(1, 2, 1),
+                           Transform::translate({5, -1, 2}) * Transform::rotate({0, 1, 1}, 30)});
+  auto corners = [&](const Transform &xf) {
+    Bounds3 b;
+    for (int c = 0; c < 8; ++c)
+      b.extend(xf.applyPoint({c & 1 ? 1.0 : -1.0, c & 2 ? 0.5 : -0.5, c & 4 ? 2.0 : -2.0}));
+    return b;
+  };
+  std::vector<Bounds3> steps;
+  for (size_t i = 0; i < m.stepCount(); ++i) steps.push_back(m.stepBounds(box, i, corners));
+  Sampler random(4, 5, 6);
+  double slack = 1e300;
+  for (int i = 0; i < 20000; ++i) {
+    const double t = random.next();
+    const size_t segment = t < 0.5 ? 0 : 1;
+    const double u = t * 2 - double(segment);
+    const Bounds3 &a = steps[segment], &b = steps[segment + 1];
+    const Vec3 c{random.next() < 0.5 ? -1.0 : 1.0, random.next() < 0.5 ? -0.5 : 0.5,
+                 random.next() < 0.5 ? -2.0 : 2.0};
+    const Vec3 w = m.at(t).applyPoint(c);
+    for (int k = 0; k < 3; ++k) {
+      const double lo = a.lo[k] + (b.lo[k] - a.lo[k]) * u, hi = a.hi[k] + (b.hi[k] - a.hi[k]) * u;
+      ASSERT_GE(w[k], lo) << t;
+      ASSERT_LE(w[k], hi) << t;
+      slack = std::min({slack, w[k] - lo, hi - w[k]});
+    }
+  }
+  EXPECT_LT(slack, 0.1);
+  // Tighter than the bounds over the whole shutter.
+  const Bounds3 all = m.sweptBounds(box, 0, 1);
+  EXPECT_LT(steps[0].hi.x, all.hi.x - 1);
 }
 
 } // namespace

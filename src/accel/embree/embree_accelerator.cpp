@@ -195,17 +195,21 @@ struct EmbreeCallbacks {
     }
   }
 
-  /// Moving entities: bounds of time step `timeStep` that hold the entity
-  /// over both segments next to it, so that Embree's linear blend of two
-  /// neighbouring steps' bounds holds it over the segment between them.
+  /// Moving entities: bounds of time step `timeStep` such that Embree's
+  /// linear blend of two neighbouring steps' bounds holds the entity over
+  /// the segment between them (stepWorldBounds), widened by a few of
+  /// float's ulps for the rounding of Embree's blend.
   static void movingBounds(const RTCBoundsFunctionArguments *args) {
     const auto *self = static_cast<const EmbreeAccelerator *>(args->geometryUserPtr);
     const Entity &e = *self->movingRefs_[args->primID].entity;
-    const double segments = static_cast<double>(self->scene_.motionSteps - 1);
-    const double t0 = std::max(0.0, (args->timeStep - 1.0) / segments);
-    const double t1 = std::min(1.0, (args->timeStep + 1.0) / segments);
-    setBounds(e.isMesh() ? meshWorldBounds(e, t0, t1) : shapeWorldBounds(e, t0, t1),
-              self->frameOrigin_, *args->bounds_o);
+    Bounds3 b = stepWorldBounds(e, args->timeStep);
+    if (!b.empty()) {
+      const Vec3 &f = self->frameOrigin_;
+      const double magnitude = std::max(maxAbsComponent(b.lo - f), maxAbsComponent(b.hi - f));
+      const double pad = magnitude * 1e-6;
+      b = {b.lo - Vec3(pad, pad, pad), b.hi + Vec3(pad, pad, pad)};
+    }
+    setBounds(b, self->frameOrigin_, *args->bounds_o);
   }
 
   /// A moving mesh's nearest triangle for ray `r` (world space, its time),

@@ -2,8 +2,11 @@
 // blurred frame matches the average of many frames rendered at single clock
 // values inside its shutter (brute force), on both backends, bit for bit the
 // same on both; the scenes of a shutter must match, and say where not.
+#include "accel/kdtree/moving_boxes.h"
 #include "bindings/scene_script.h"
 #include "geometry/csg_tree.h"
+#include "geometry/shape.h"
+#include "math/random.h"
 #include "run/frame_pipeline.h"
 #include "run/scene_motion.h"
 #include "shading/image_cache.h"
@@ -174,6 +177,39 @@ TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
   ASSERT_EQ(scene.lightMotion.size(), 1u);
   ASSERT_TRUE(scene.lightMotion[0]);
   EXPECT_NEAR(scene.lightMotion[0]->at(1).x, 3, 1e-12);
+}
+
+// The kd-tree's test of a ray against a moving entity's bounds at the
+// ray's time (accel/kdtree/moving_boxes.h) must never turn away a ray that
+// hits it, and should turn away some that do not.
+TEST(MotionBlur, AMovingEntitysBoundsAtARaysTimeHoldEveryHit) {
+  SceneScript script = SceneScript::fromString(kScene, "blur.lua");
+  SceneInfo info = script.info();
+  info.shutter = 1;
+  info.motionSteps = 3;
+  int calls = 0;
+  const Scene scene = buildFrameScene(script, info, 0, calls);
+  const MovingBoxes boxes(scene);
+  Sampler random(7, 8, 9);
+  int hits = 0, turnedAway = 0;
+  for (int n = 0; n < 20000; ++n) {
+    // From around the scene towards points near the moving things.
+    Ray ray;
+    ray.o = Vec3(random.next() * 12 - 6, random.next() * 6, random.next() * 12 - 6);
+    const Vec3 target(random.next() * 7 - 3, random.next() * 2.5, random.next() * 3);
+    ray.d = normalize(target - ray.o);
+    ray.time = random.next();
+    for (uint32_t e : {1u, 4u}) { // the sliding sphere and the turning CSG
+      Hit hit;
+      const bool hits_ = intersectShape(scene.entities[e], e, ray, hit);
+      const bool away = boxes.misses(e, ray);
+      ASSERT_FALSE(hits_ && away) << "entity " << e << " at time " << ray.time;
+      hits += hits_;
+      turnedAway += away;
+    }
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(turnedAway, 1000);
 }
 
 std::string foldError(const char *body) {

@@ -123,7 +123,7 @@ KdTree buildMeshTree(const MeshData &mesh) {
 
 KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
     : scene_(scene), frameOrigin_(floatFrameOrigin(scene)), useAvx2_(cpuHasAvx2()),
-      unbounded_(scene) {
+      unbounded_(scene), moving_(scene) {
   auto start = std::chrono::steady_clock::now();
 
   // One bottom-level tree per distinct MeshData (shared_ptr identity).
@@ -328,6 +328,11 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
   auto testInstance = [&](uint32_t prim, double &tBest) {
     const Instance &inst = instances_[prim];
     const Entity &entity = scene_.entities[inst.entity];
+    if (moving_.moves(inst.entity)) {
+      Ray bounded = ray;
+      bounded.tMax = tBest;
+      if (moving_.misses(inst.entity, bounded)) return false;
+    }
     if (inst.meshTree == kAnalytic) {
       Ray bounded = ray;
       bounded.tMax = tBest;
@@ -365,6 +370,7 @@ template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const
   if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
+    if (moving_.misses(inst.entity, ray)) return false;
     if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
     double tObject = ray.tMax;
     MeshHit unused;
@@ -396,6 +402,13 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
   auto testInstance = [&](uint32_t prim, uint32_t in, double *tBest) {
     const Instance &inst = instances_[prim];
     uint32_t found = 0;
+    if (moving_.moves(inst.entity))
+      for (uint32_t m = in; m != 0; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        Ray bounded = rays[i];
+        bounded.tMax = tBest[i];
+        if (moving_.misses(inst.entity, bounded)) in &= ~(1u << i);
+      }
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
       for (; in != 0; in &= in - 1) {

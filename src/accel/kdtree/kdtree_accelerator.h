@@ -8,6 +8,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "accel/kdtree/moving_boxes.h"
 #include "accel/unbounded_shapes.h"
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"
@@ -143,6 +144,8 @@ private:
   /// Planes: outside both levels, tested after them (closest) or before
   /// them (any hit).
   UnboundedShapes unbounded_;
+  /// Moving entities' bounds at each motion step: a ray's test at its time.
+  MovingBoxes moving_;
   /// objectFromWorld of each transformed mesh instance.
   std::vector<Transform> transforms_;
   KdTree top_;

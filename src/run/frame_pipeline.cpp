@@ -21,7 +21,7 @@ Scene buildFrameScene(SceneScript &script, const SceneInfo &info, int frame, int
   steps.reserve(clocks.size());
   for (double clock : clocks)
     steps.push_back(script.buildFrame(clock));
-  return foldMotionSteps(std::move(steps), clocks, info.integrator == "path");
+  return foldMotionSteps(std::move(steps), clocks);
 }
 
 Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,

@@ -91,10 +91,6 @@ std::string shapeChange(const Entity &a, const Entity &b) {
 }
 
 
-bool emits(const Scene &scene, const Entity &e) {
-  return e.texture < scene.textures.size() && !scene.textures[e.texture].finish.emission.isBlack();
-}
-
 Vec3 lightPosition(const SceneLight &light) {
   return std::visit([](const auto &l) { return l.worldFromLight.applyPoint({0, 0, 0}); }, light);
 }
@@ -113,8 +109,7 @@ std::vector<double> motionClocks(const SceneInfo &info, int frame) {
   return clocks;
 }
 
-Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clocks,
-                      bool pathTracer) {
+Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clocks) {
   Scene scene = std::move(steps.at(0));
   const size_t k = steps.size();
   if (k < 2) return scene;
@@ -187,11 +182,6 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
       }
       if (deforms) e.vertexMotion = std::move(motion);
     }
-    if ((e.moves() || partsMove) && pathTracer && emits(scene, e))
-      throw SceneError(e.loc, fmt::format("motion blur: {} emits light and moves while the "
-                                          "shutter is open, which the path tracer does not "
-                                          "sample yet",
-                                          shapeName(e.shape)));
   }
   scene.camera.motion = motionOf([](const Scene &sc) { return sc.camera.worldFromCamera; });
 

@@ -23,10 +23,7 @@ std::vector<double> motionClocks(const SceneInfo &info, int frame);
 /// different count or kind of entity or light, a shape parameter that
 /// changes (a Torus's radii), a mesh whose triangles change (its vertices
 /// and normals may move: Entity::vertexMotion), a CSG whose operators or
-/// parts change (its parts may move, each by its own transform), or an
-/// emitting entity that moves under the path tracer (its light is sampled
-/// where it starts). `pathTracer`: the
-/// frame uses the path integrator.
-Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clocks, bool pathTracer);
+/// parts change (its parts may move, each by its own transform).
+Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clocks);
 
 } // namespace lray

@@ -23,25 +23,43 @@ double areaScale(const Transform &t) { return std::pow(std::fabs(t.matrix().det3
 
 } // namespace
 
-void Emitters::roundSphere(const Transform &t, Entry &entry) {
+bool Emitters::keepsRound(const Transform &t) {
   const auto &m = t.matrix().m;
   const Vec3 a(m[0][0], m[1][0], m[2][0]), b(m[0][1], m[1][1], m[2][1]),
       c(m[0][2], m[1][2], m[2][2]);
   const double la = length(a), lb = length(b), lc = length(c);
   const double tolerance = 1e-9 * la;
-  if (!(la > 0) || std::fabs(la - lb) > tolerance || std::fabs(la - lc) > tolerance ||
-      std::fabs(dot(a, b)) > tolerance * la || std::fabs(dot(a, c)) > tolerance * la ||
-      std::fabs(dot(b, c)) > tolerance * la)
-    return; // an ellipsoid: sampled by area
-  entry.round = true;
-  entry.centre = Vec3(m[0][3], m[1][3], m[2][3]);
-  entry.radius = la;
+  return la > 0 && std::fabs(la - lb) <= tolerance && std::fabs(la - lc) <= tolerance &&
+         std::fabs(dot(a, b)) <= tolerance * la && std::fabs(dot(a, c)) <= tolerance * la &&
+         std::fabs(dot(b, c)) <= tolerance * la;
 }
 
-double Emitters::coneSize(const Entry &entry, const Vec3 &ref) {
-  if (!entry.round) return 0;
-  const Vec3 toCentre = entry.centre - ref;
-  const double d2 = dot(toCentre, toCentre), r2 = entry.radius * entry.radius;
+Transform Emitters::placementAt(const Entity &e, float time) {
+  return e.motion ? e.motion->at(time) : e.worldFromObject;
+}
+
+Emitters::Ball Emitters::ballAt(const Entry &entry, float time) const {
+  const Entity &e = shapeOf(entry);
+  const Mat4 m = e.motion ? e.motion->matrixAt(time) : e.worldFromObject.matrix();
+  return {Vec3(m.m[0][3], m.m[1][3], m.m[2][3]),
+          length(Vec3(m.m[0][0], m.m[1][0], m.m[2][0]))};
+}
+
+double Emitters::triangleArea(const Entry &entry, float time) const {
+  if (!entry.moves) return entry.area;
+  const Entity &e = scene_.entities[entry.entity];
+  const Transform placement = placementAt(e, time);
+  const uint32_t *v = e.mesh->triangles[entry.part].v;
+  Vec3 corner[3];
+  for (int k = 0; k < 3; ++k)
+    corner[k] = placement.applyPoint(e.vertexMotion ? e.vertexMotion->position(v[k], time)
+                                                    : toVec3(e.mesh->positions[v[k]]));
+  return 0.5 * length(cross(corner[1] - corner[0], corner[2] - corner[0]));
+}
+
+double Emitters::coneSize(const Ball &ball, const Vec3 &ref) {
+  const Vec3 toCentre = ball.centre - ref;
+  const double d2 = dot(toCentre, toCentre), r2 = ball.radius * ball.radius;
   if (!(d2 > r2 * (1 + 1e-9))) return 0; // inside, or on the surface: by area
   const double sin2 = r2 / d2;
   return sin2 / (1 + std::sqrt(1 - sin2)); // 1 - cos theta_max, without cancellation
@@ -87,7 +105,14 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
                       const Color &emission) {
     if (const auto kind = solidKind(e)) {
       Entry entry{entity, part, kind->first, csgLeaf, 0, kind->second};
-      if (entry.kind == Kind::Sphere && !csgLeaf) roundSphere(e.worldFromObject, entry);
+      entry.moves = e.moves();
+      if (entry.kind == Kind::Sphere && !csgLeaf) {
+        // Round at every step: a turn and an even scale at each, so in
+        // between too (the interpolated stretch stays even).
+        entry.round = keepsRound(e.worldFromObject);
+        for (size_t k = 0; e.motion && k < e.motion->stepCount(); ++k)
+          entry.round = entry.round && keepsRound(e.motion->step(k));
+      }
       entries_.push_back(entry);
       power.push_back(mean(emission) * kind->second * areaScale(e.worldFromObject));
     }
@@ -112,7 +137,7 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
           const Vec3 c = e.worldFromObject.applyPoint(toVec3(e.mesh->positions[v[2]]));
           const double area = 0.5 * length(cross(b - a, c - a));
           if (!(area > 0)) continue; // a degenerate triangle: nothing to sample
-          entries_.push_back({i, t, Kind::Triangle, false, 0, area});
+          entries_.push_back({i, t, Kind::Triangle, false, 0, area, e.moves()});
           power.push_back(mean(*emission) * area);
         }
       }
@@ -137,14 +162,14 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
   cumulative_.back() = 1; // no gap at the top from rounding
 }
 
-double Emitters::worldAreaFactor(const Entity &e, const Vec3 &n) const {
+double Emitters::worldAreaFactor(const Transform &placement, const Vec3 &n) {
   // dA_world = |det M| |M^-T n_obj| dA_object with n_obj the unit object
   // normal; with n = M^-T n_obj / |M^-T n_obj| that is |det M| / |M^T n|.
-  const auto &m = e.worldFromObject.matrix().m;
+  const auto &m = placement.matrix().m;
   const Vec3 mtn{m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
                  m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
                  m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
-  return length(mtn) / std::fabs(e.worldFromObject.matrix().det3());
+  return length(mtn) / std::fabs(placement.matrix().det3());
 }
 
 const Entity &Emitters::shapeOf(const Entry &entry) const {
@@ -152,7 +177,7 @@ const Entity &Emitters::shapeOf(const Entry &entry) const {
   return entry.csgLeaf ? std::get<Csg>(e.shape).tree->leaves[entry.part].entity : e;
 }
 
-Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
+Emitters::Sample Emitters::sample(const Vec3 &ref, float time, Sampler &sampler) const {
   const double pick = sampler.next();
   double u, v;
   sampler.next2D(u, v);
@@ -168,21 +193,23 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
     const double r = std::sqrt(u);
     const double b1 = r * (1 - v), b2 = r * v;
     Hit hit;
-    const Ray probe{Vec3(), Vec3(0, 0, 1), 0, 1};
+    Ray probe{Vec3(), Vec3(0, 0, 1), 0, 1};
+    probe.time = time; // where a moving mesh's corners are then
     fillTriangleHit(e, entry.entity, entry.part, 0, b1, b2, probe, Vec3(), hit);
     s.p = hit.p;
     s.n = hit.ng;
-    s.pdfArea = entry.probability / entry.area;
+    s.pdfArea = entry.probability / triangleArea(entry, time);
     return s;
   }
-  if (const double cone = coneSize(entry, ref); cone > 0) {
+  const Ball ball = entry.round ? ballAt(entry, time) : Ball{};
+  if (const double cone = entry.round ? coneSize(ball, ref) : 0; cone > 0) {
     // The cone of directions from ref that meet the sphere, uniformly
     // (pbrt-v3's Sphere::Sample): theta from the axis, then the point of
     // the visible cap that direction meets, by its angle alpha at the centre.
-    const Vec3 toCentre = entry.centre - ref;
+    const Vec3 toCentre = ball.centre - ref;
     const double dc = length(toCentre);
     const Vec3 w = toCentre / dc;
-    const double sinMax = entry.radius / dc, sin2Max = sinMax * sinMax;
+    const double sinMax = ball.radius / dc, sin2Max = sinMax * sinMax;
     const double sin2 = sin2Max < 0.00068523 ? sin2Max * u : 1 - std::pow(1 - cone * u, 2);
     const double cosTheta = std::sqrt(std::max(0.0, 1 - sin2));
     const double cosAlpha =
@@ -192,7 +219,7 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
     Vec3 t, b;
     orthonormalBasis(w, t, b);
     s.n = -(t * (sinAlpha * std::cos(phi)) + b * (sinAlpha * std::sin(phi)) + w * cosAlpha);
-    s.p = entry.centre + s.n * entry.radius;
+    s.p = ball.centre + s.n * ball.radius;
     s.pdfArea = conePdfArea(entry, cone, ref, s.p, s.n);
     return s;
   }
@@ -223,21 +250,23 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, Sampler &sampler) const {
     nObject = Vec3(face / 2 == 0 ? side * 2 : 0, face / 2 == 1 ? side * 2 : 0,
                    face / 2 == 2 ? side * 2 : 0);
   }
-  s.p = affinePoint(e.worldFromObject.matrix(), pObject);
-  s.n = unitVector(affineNormal(e.worldFromObject.inverseMatrix(), nObject));
-  s.pdfArea = entry.probability * worldAreaFactor(e, s.n) / entry.area;
-  if (entry.csgLeaf && !onCsgSurface(entry, s.p, s.n)) s.pdfArea = 0;
+  const Transform placement = placementAt(e, time);
+  s.p = affinePoint(placement.matrix(), pObject);
+  s.n = unitVector(affineNormal(placement.inverseMatrix(), nObject));
+  s.pdfArea = entry.probability * worldAreaFactor(placement, s.n) / entry.area;
+  if (entry.csgLeaf && !onCsgSurface(entry, s.p, time, s.n)) s.pdfArea = 0;
   return s;
 }
 
-bool Emitters::onCsgSurface(const Entry &entry, const Vec3 &p, Vec3 &n) const {
+bool Emitters::onCsgSurface(const Entry &entry, const Vec3 &p, float time, Vec3 &n) const {
   // A short ray through the point across the leaf's surface: the point is
   // the result's where the CSG code (the operators' rules, coincident
   // surfaces included) finds this leaf's surface there first.
   const Entity &e = scene_.entities[entry.entity];
   const double scale = std::max({1.0, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
   const double delta = 1e-7 * scale;
-  const Ray probe{p + n * delta, -n, 0, 2 * delta};
+  Ray probe{p + n * delta, -n, 0, 2 * delta};
+  probe.time = time; // a moving leaf where it is then
   Hit hit;
   if (!intersectCsg(std::get<Csg>(e.shape), entry.entity, probe, hit)) return false;
   if (hit.primitive != entry.part || std::fabs(hit.t - delta) > 0.5 * delta) return false;
@@ -314,11 +343,13 @@ double Emitters::pdfArea(const Hit &hit, const Vec3 &ref) const {
       --k;
     entry = &entries_[k];
     if (entry->entity != hit.entity || entry->part != hit.primitive) return 0;
-    if (entry->kind == Kind::Triangle) return entry->probability / entry->area;
+    if (entry->kind == Kind::Triangle) return entry->probability / triangleArea(*entry, hit.time);
   }
-  if (const double cone = coneSize(*entry, ref); cone > 0)
-    return conePdfArea(*entry, cone, ref, hit.p, hit.ng);
-  return entry->probability * worldAreaFactor(shapeOf(*entry), hit.ng) / entry->area;
+  if (entry->round)
+    if (const double cone = coneSize(ballAt(*entry, hit.time), ref); cone > 0)
+      return conePdfArea(*entry, cone, ref, hit.p, hit.ng);
+  return entry->probability * worldAreaFactor(placementAt(shapeOf(*entry), hit.time), hit.ng) /
+         entry->area;
 }
 
 } // namespace lray

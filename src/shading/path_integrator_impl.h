@@ -201,7 +201,7 @@ Color PathIntegrator<Accel>::path(Ray ray, Hit hit, bool found, Sampler &sampler
     // Emitters sampled directly from the diffuse and rough lobes (perfectly
     // specular ones send no other direction than their own to them).
     if ((wd > 0 || lobes.rough) && !emitters_.empty()) {
-      const Emitters::Sample e = emitters_.sample(hit.p, sampler);
+      const Emitters::Sample e = emitters_.sample(hit.p, hit.time, sampler);
       const Vec3 toLight = e.p - hit.p;
       const double d2 = dot(toLight, toLight), d = std::sqrt(d2);
       const Vec3 l = toLight / d;

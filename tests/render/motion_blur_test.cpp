@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace lray {
@@ -61,6 +62,8 @@ Film render(SceneScript &script, const SceneInfo &info, const char *backend, uin
   FrameStats stats;
   FrameSettings sampling;
   sampling.seed = seed;
+  sampling.integrator = info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;
+  sampling.maxDepth = info.maxDepth;
   return renderScriptFrame(script, info, 0, backend, images, stats, nullptr, sampling);
 }
 
@@ -82,6 +85,32 @@ double blockDifference(const Film &a, const Film &b) {
   return largest;
 }
 
+/// Brute force: the average of 64 single-clock frames of 4 x 4 samples
+/// spread over the clock interval [0, 1], each at another seed (other
+/// positions in the pixel: fixed sampling's first sample is the pixel
+/// centre, so the frames' sum weights it by 1/16 only).
+Film bruteForce(SceneScript &script) {
+  const int kClocks = 64;
+  SceneInfo single = script.info();
+  single.samples = 4;
+  single.frames = 2;
+  std::vector<Color> sum(static_cast<size_t>(single.imageWidth) * single.imageHeight);
+  std::optional<Film> average;
+  for (int i = 0; i < kClocks; ++i) {
+    single.startClock = (i + 0.5) / kClocks;
+    single.endClock = single.startClock + 1;
+    const Film f = render(script, single, "embree", static_cast<uint32_t>(i));
+    if (!average) average = f;
+    for (int y = 0; y < f.height(); ++y)
+      for (int x = 0; x < f.width(); ++x)
+        sum[static_cast<size_t>(y) * f.width() + x] += f.get(x, y);
+  }
+  for (int y = 0; y < average->height(); ++y)
+    for (int x = 0; x < average->width(); ++x)
+      average->set(x, y, sum[static_cast<size_t>(y) * average->width() + x] / kClocks);
+  return *average;
+}
+
 TEST(MotionBlur, MatchesTheAverageOfFramesAtClocksInsideTheShutter) {
   SceneScript script = SceneScript::fromString(kScene, "blur.lua");
   SceneInfo blurred = script.info();
@@ -89,27 +118,7 @@ TEST(MotionBlur, MatchesTheAverageOfFramesAtClocksInsideTheShutter) {
   const Film blur = render(script, blurred, "embree");
   // A second, independent blurred render: the noise floor of the comparison.
   const Film blur2 = render(script, blurred, "embree", 1000);
-
-  // Brute force: 64 single-clock frames of 4 x 4 samples, each at another
-  // seed (other positions in the pixel: fixed sampling's first sample is
-  // the pixel centre, so the frames' sum weights it by 1/16 only).
-  const int kClocks = 64;
-  std::vector<Color> sum(static_cast<size_t>(blur.width()) * blur.height());
-  Film average = blur;
-  SceneInfo single = script.info();
-  single.samples = 4;
-  single.frames = 2;
-  for (int i = 0; i < kClocks; ++i) {
-    single.startClock = (i + 0.5) / kClocks;
-    single.endClock = single.startClock + 1;
-    const Film f = render(script, single, "embree", static_cast<uint32_t>(i));
-    for (int y = 0; y < f.height(); ++y)
-      for (int x = 0; x < f.width(); ++x)
-        sum[static_cast<size_t>(y) * f.width() + x] += f.get(x, y);
-  }
-  for (int y = 0; y < average.height(); ++y)
-    for (int x = 0; x < average.width(); ++x)
-      average.set(x, y, sum[static_cast<size_t>(y) * average.width() + x] / kClocks);
+  const Film average = bruteForce(script);
 
   SceneInfo still = script.info();
   still.samples = 16;
@@ -123,6 +132,54 @@ TEST(MotionBlur, MatchesTheAverageOfFramesAtClocksInsideTheShutter) {
   // end's angle) gave 0.025.
   EXPECT_LT(bruteForce, 2 * noise) << "noise " << noise;
   EXPECT_GT(unblurred, 20 * bruteForce) << "the test could not tell a sharp frame";
+}
+
+// Emitters that move, under the path tracer: each sampled where it is at
+// the path's time (shading/emitters.h). A sphere sliding (sampled by the
+// cone it fills), a quad turning by its transform, a triangle whose
+// corner slides, over a floor they light.
+const char *kGlowScene = R"lua(
+scene_info = SceneInfo() { image_width = 32, image_height = 24, samples = 16,
+                           integrator = "path", max_depth = 2 }
+local function glow(c)
+  return Texture() { pigment = ColorPigment(grey(0)),
+                     finish = Finish() { diffuse = 0, emission = c } }
+end
+function scene(clock)
+  local s = Scene() {
+    camera = Perspective(50, 4 / 3) { transform = LookAt(Vector(0, 4, -6), Vector(0, 0, 0.5), y) },
+  }
+  s:add_entity(Floor() { texture = Texture() { pigment = ColorPigment(grey(0.8)) } })
+  s:add_entity(Sphere(Translate(Vector(-2.5 + 4 * clock, 0.6, 0)) * Scale(0.3)) {
+    texture = glow(Color(6, 3, 1)) })
+  s:add_entity(Mesh() { transform = Translate(Vector(1.5, 1.2, 2)) * Rotate(y, 120 * clock),
+    vertices = { {-0.6, 0, -0.6}, {0.6, 0, -0.6}, {-0.6, 0, 0.6}, {0.6, 0, 0.6} },
+    indices = { {1, 3, 2}, {2, 3, 4} }, texture = glow(Color(1, 2, 4)) })
+  s:add_entity(Mesh() { vertices = { {-2, 1.5, 2}, {-1, 1.5, 2}, {-2 + 2 * clock, 1.5, 3} },
+    indices = { {1, 3, 2} }, texture = glow(Color(2, 5, 2)) })
+  return s
+end
+)lua";
+
+TEST(MotionBlur, PathTracedMovingEmittersMatchTheAverageOfFrames) {
+  SceneScript script = SceneScript::fromString(kGlowScene, "glow.lua");
+  SceneInfo blurred = script.info();
+  blurred.shutter = 1;
+  const Film blur = render(script, blurred, "embree");
+  const Film blur2 = render(script, blurred, "embree", 1000);
+  const Film average = bruteForce(script);
+  SceneInfo still = script.info();
+  const Film sharp = render(script, still, "embree");
+  const double noise = blockDifference(blur, blur2);
+  const double bruteForceDifference = blockDifference(blur, average);
+  const double unblurred = blockDifference(blur, sharp);
+  // Measured: brute force 0.025, two blurred renders 0.026, the sharp
+  // frame 1.76; emitters sampled where they are at the shutter's opening
+  // (as before they could move) gave 0.21.
+  EXPECT_LT(bruteForceDifference, 2 * noise) << "noise " << noise;
+  EXPECT_GT(unblurred, 5 * bruteForceDifference) << "the test could not tell a sharp frame";
+  // Both backends, the same bytes.
+  EXPECT_EQ(render(script, blurred, "kdtree").data(), blur.data());
 }
 
 TEST(MotionBlur, BothBackendsAndAnyThreadCountGiveTheSameBytesAndShutterZeroNoBlur) {
@@ -248,28 +305,6 @@ TEST(MotionBlur, ScenesOfOneShutterThatDoNotMatchAreErrors) {
                 .find("entity 1 (Difference, mismatch.lua:5) changes its parts: part 2 is a "
                       "Sphere there"),
             std::string::npos);
-  // An emitter the path tracer would sample where it starts: refused,
-  // whether it moves by its transform or its vertices.
-  const std::string glow =
-      "texture = Texture() { finish = Finish() { emission = Color(1, 1, 1) } } }";
-  for (const std::string &emitter :
-       {"Sphere(Translate(Vector(clock, 0, 0))) { " + glow,
-        "Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, {0, 1 + clock, 0} }, indices = { {1, 3, 2} "
-        "}, " + glow}) {
-    const std::string source = "scene_info = SceneInfo() { image_width = 8, image_height = 8, "
-                               "shutter = 1, integrator = 'path' }\n"
-                               "function scene(clock)\n  local s = Scene()\n  s:add_entity(" +
-                               emitter + ")\n  return s\nend\n";
-    SceneScript script = SceneScript::fromString(source, "glow.lua");
-    int calls = 0;
-    try {
-      buildFrameScene(script, script.info(), 0, calls);
-      ADD_FAILURE() << emitter;
-    } catch (const SceneError &e) {
-      EXPECT_NE(std::string(e.what()).find("emits light and moves"), std::string::npos)
-          << e.what();
-    }
-  }
   // The same scene at every step, things moving: fine.
   EXPECT_EQ(foldError("s:add_entity(Sphere(Translate(Vector(clock, 0, 0))))"), "");
   EXPECT_EQ(foldError("s:add_entity(Mesh() { vertices = { {0, 0, 0}, {1, 0, 0}, "

@@ -12,6 +12,13 @@ shutter open). A table (markdown) goes to stdout. See bench/README.md,
 
     bench/motion/motion_cost.py                 # 2 threads, 3 runs
     bench/motion/motion_cost.py --threads 1 --runs 5
+    bench/motion/motion_cost.py --instructions  # callgrind, a quarter of the size
+
+Times on a shared machine wander by 10 % and more from run to run;
+`--instructions` counts the instructions of the tile rendering instead
+(valgrind's callgrind, inclusive in lray::sampleTile, one thread, each
+image a quarter of the width and height): deterministic, but blind to
+cache misses and latency, so it reads lower than the times.
 """
 
 import argparse
@@ -46,13 +53,44 @@ def run(scene, frame, shutter, extra, backend, threads, out):
     return s["times"], s["frames"][0]["scene_calls"]
 
 
+def instructions(scene, frame, shutter, extra, backend, out):
+    """Instructions lray spends in its tile sampler, from callgrind."""
+    size = [str(int(v) // 4) if k in ("-w", "-H") else v
+            for k, v in zip([None] + extra[:-1], extra)]
+    profile = os.path.join(out, "callgrind.out")
+    subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={profile}", LRAY,
+                    scene, out, "-q", "--frames", f"{frame}:{frame}", "-s", "4", "--shutter",
+                    shutter, "--backend", backend, "-t", "1"] + size,
+                   check=True, capture_output=True)
+    report = subprocess.run(["callgrind_annotate", "--inclusive=yes", profile], check=True,
+                            capture_output=True, text=True).stdout
+    for line in report.splitlines():
+        if "lray::sampleTile" in line:
+            return int(line.split()[0].replace(",", ""))
+    raise RuntimeError("no lray::sampleTile in the profile")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--backends", nargs="+", default=["embree", "kdtree"])
+    ap.add_argument("--instructions", action="store_true",
+                    help="count instructions under callgrind instead of timing")
     args = ap.parse_args()
+    if args.instructions:
+        print("callgrind, 1 thread, 4 x 4 samples per pixel, a quarter of the size\n")
+        print("| scene | backend | sharp (instructions) | blurred (instructions) | ratio |")
+        print("|---|---|---|---|---|")
+        with tempfile.TemporaryDirectory() as out:
+            for name, (scene, frame, shutter, extra) in CASES.items():
+                for backend in args.backends:
+                    sharp = instructions(scene, frame, "0", extra, backend, out)
+                    blurred = instructions(scene, frame, shutter, extra, backend, out)
+                    print(f"| {name} | {backend} | {sharp:,} | {blurred:,} | "
+                          f"{blurred / sharp:.2f} |", flush=True)
+        return
     print(f"{args.threads} thread(s), 4 x 4 samples per pixel, medians of {args.runs} runs\n")
     print("| scene | backend | render sharp (s) | render blurred (s) | ratio | build sharp / "
           "blurred (s) | scene(clock) sharp / blurred (s, calls) |")
@@ -60,12 +98,16 @@ def main():
     with tempfile.TemporaryDirectory() as out:
         for name, (scene, frame, shutter, extra) in CASES.items():
             for backend in args.backends:
-                times = {}
-                for open_ in ("0", shutter):
-                    runs = [run(scene, frame, open_, extra, backend, args.threads, out)
-                            for _ in range(args.runs)]
-                    times[open_] = ({k: statistics.median(r[0][k] for r in runs)
-                                     for k in ("render", "build", "scene")}, runs[0][1])
+                # Sharp and blurred runs alternate, so that a change in the
+                # machine's load falls on both.
+                runs = {"0": [], shutter: []}
+                for _ in range(args.runs):
+                    for open_ in runs:
+                        runs[open_].append(run(scene, frame, open_, extra, backend, args.threads,
+                                               out))
+                times = {open_: ({k: statistics.median(r[0][k] for r in rs)
+                                  for k in ("render", "build", "scene")}, rs[0][1])
+                         for open_, rs in runs.items()}
                 sharp, blurred = times["0"][0], times[shutter][0]
                 print(f"| {name} | {backend} | {sharp['render']:.3f} | {blurred['render']:.3f} | "
                       f"{blurred['render'] / sharp['render']:.2f} | {sharp['build']:.3f} / "

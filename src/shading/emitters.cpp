@@ -17,6 +17,10 @@ namespace {
 
 double mean(const Color &c) { return (c.r + c.g + c.b) / 3; }
 
+/// A spindle torus's surface (minor >= major: an apple) is the tube's
+/// part outside the axis, R + r cos b >= 0: tube angles |b| up to this.
+double spindleTubeAngle(const Torus &t) { return std::acos(-t.major / t.minor); }
+
 /// |det| of the linear part: how the transform scales volumes; its 2/3
 /// power estimates how it scales areas (for choosing among emitters only).
 double areaScale(const Transform &t) { return std::pow(std::fabs(t.matrix().det3()), 2.0 / 3); }
@@ -84,10 +88,15 @@ std::optional<std::pair<Emitters::Kind, double>> Emitters::solidKind(const Entit
     return std::pair{Kind::Cylinder, pi * (std::get<Cylinder>(e.shape).open ? 2 : 4)};
   case ShapeKind::Cone: // the side (pi sqrt 2) and the base (pi) unless open
     return std::pair{Kind::Cone, pi * (std::sqrt(2.0) + (std::get<Cone>(e.shape).open ? 0 : 1))};
-  case ShapeKind::Torus: { // a ring torus (major > minor): area 4 pi^2 R r
+  case ShapeKind::Torus: {
     const Torus &t = std::get<Torus>(e.shape);
-    if (!(t.major > t.minor && t.minor > 0)) return std::nullopt; // spindle: not sampled
-    return std::pair{Kind::Torus, 4 * pi * pi * t.major * t.minor};
+    if (!(t.minor > 0 && t.major >= 0)) return std::nullopt;
+    if (t.major > t.minor) // a ring torus: area 4 pi^2 R r
+      return std::pair{Kind::Torus, 4 * pi * pi * t.major * t.minor};
+    // A spindle torus (an apple): the tube's part with R + r cos b >= 0,
+    // |b| <= b_max (sampleTorus), of area 4 pi r (R b_max + r sin b_max).
+    const double bMax = spindleTubeAngle(t);
+    return std::pair{Kind::Torus, 4 * pi * t.minor * (t.major * bMax + t.minor * std::sin(bMax))};
   }
   default:
     return std::nullopt; // a Plane (no area), a Mesh (by triangles), a CSG (by leaves)
@@ -276,12 +285,19 @@ bool Emitters::onCsgSurface(const Entry &entry, const Vec3 &p, float time, Vec3 
 
 void Emitters::sampleTorus(const Torus &t, double u, double v, Vec3 &p, Vec3 &n) {
   // dA = r (R + r cos b) da db: a uniform around the ring, b by the inverse
-  // of its distribution F(b) = (R b + r sin b) / (2 pi R), found by Newton's
-  // method kept inside a bracket (F is increasing: R > r).
-  const double R = t.major, r = t.minor, target = 2 * std::numbers::pi * R * v;
-  double lo = 0, hi = 2 * std::numbers::pi, b = 2 * std::numbers::pi * v;
+  // of its distribution, proportional to R (b - b0) + r (sin b - sin b0)
+  // over [b0, b1], found by Newton's method kept inside a bracket (it is
+  // increasing there: R + r cos b >= 0). A ring torus: the whole tube,
+  // [0, 2 pi]; a spindle torus: the apple's surface, [-b_max, b_max].
+  const double R = t.major, r = t.minor;
+  const bool ring = R > r;
+  const double b0 = ring ? 0 : -spindleTubeAngle(t), b1 = ring ? 2 * std::numbers::pi : -b0;
+  const double sin0 = ring ? 0 : std::sin(b0);
+  const double target =
+      ring ? 2 * std::numbers::pi * R * v : (R * (b1 - b0) + r * (std::sin(b1) - sin0)) * v;
+  double lo = b0, hi = b1, b = b0 + (b1 - b0) * v;
   for (int k = 0; k < 60; ++k) {
-    const double f = R * b + r * std::sin(b) - target;
+    const double f = R * (b - b0) + r * (std::sin(b) - sin0) - target;
     if (f > 0) hi = b;
     else lo = b;
     const double step = f / (R + r * std::cos(b));

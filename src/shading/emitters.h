@@ -1,14 +1,13 @@
 // Pipeline: shading. The scene's emitting surfaces as light sources the
 // path tracer samples directly (next-event estimation, lua/README.md,
-// "Light transport"): a Sphere, Cube, Cylinder, Cone, ring Torus or Mesh
+// "Light transport"): a Sphere, Cube, Cylinder, Cone, Torus or Mesh
 // entity whose finish emits, and the emitting leaves of those kinds of a
 // CSG entity. One is chosen by its power (emission's mean times its area),
 // then a point on it uniformly by its object-space area (exactly by world
 // area for triangles). A CSG leaf's point counts only where it is a surface
 // of the result (the others are drawn and rejected: density 0). pdfArea
 // gives the same density for a point a path found by itself, for multiple
-// importance sampling. Spindle tori are not sampled: paths find them by
-// bouncing. A moving emitter (lua/README.md, "Motion blur") is sampled
+// importance sampling. A moving emitter (lua/README.md, "Motion blur") is sampled
 // where it is at the time of the path's camera sample (Hit::time).
 #pragma once
 
@@ -96,7 +95,8 @@ private:
   /// A point and its outward object-space normal on a cylinder or cone,
   /// uniform by object-space area, from two uniform numbers.
   void sampleRound(const Entry &entry, double u, double v, Vec3 &p, Vec3 &n) const;
-  /// The same on a ring torus (major > minor).
+  /// The same on a torus: a ring torus's whole tube, a spindle torus's
+  /// apple-shaped surface.
   static void sampleTorus(const Torus &t, double u, double v, Vec3 &p, Vec3 &n);
   /// Object-space area over world area at a point of world normal n
   /// (unit) on a surface placed by `placement`.

@@ -312,39 +312,52 @@ TEST(PathIntegrator, CylinderAndConeEmittersLightAPointAsTheirBaseDiskSays) {
 }
 
 TEST(PathIntegrator, ATorusEmitterLightsAPointAsItsSurfaceIntegralSays) {
-  // A ring torus (R = 1, r = 0.3, scaled by k = 0.8 and turned about its
-  // axis) emitting L, level at height d over the square: the irradiance at
-  // the square is the integral of L cos_s cos_l / dist^2 over the part of
-  // the surface facing it (none of it is hidden from a point on the axis),
-  // by quadrature over the tube's angles. Its points are drawn in object
-  // space by inverting the distribution of the tube angle.
-  Scene s;
-  const double R = 1, r = 0.3, k = 0.8, d = 1.5, L = 3, albedo = 0.7;
-  Finish lamp = matte(0);
-  lamp.emission = {L, L, L};
-  Entity torus;
-  torus.shape = Torus{R, r};
-  torus.worldFromObject = Transform::translate({0, d, 0}) * Transform::rotate({0, 1, 0}, 30) *
-                          Transform::scale(k, k, k);
-  torus.texture = addTexture(s, lamp);
-  s.entities.push_back(torus);
-  const auto [mean, standardError] = litSquare(s, matte(albedo), 32);
-  double irradiance = 0;
-  constexpr int kSteps = 2000;
-  for (int j = 0; j < kSteps; ++j) { // the tube angle b; the ring angle integrates to 2 pi
-    const double b = 2 * std::numbers::pi * (j + 0.5) / kSteps;
-    const Vec3 p(k * (R + r * std::cos(b)), d + k * r * std::sin(b), 0);
-    const Vec3 n(std::cos(b), std::sin(b), 0);
-    const double dist2 = dot(p, p), dist = std::sqrt(dist2);
-    const double cosSquare = p.y / dist, cosLight = -dot(n, p) / dist;
-    if (cosLight <= 0) continue;
-    const double area = k * k * r * (R + r * std::cos(b)) * 2 * std::numbers::pi *
-                        (2 * std::numbers::pi / kSteps);
-    irradiance += L * cosSquare * cosLight / dist2 * area;
+  // A ring torus (R = 1, r = 0.3) and a spindle torus (R = 0.3, r = 0.5:
+  // an apple whose surface is the tube's part with R + r cos b >= 0),
+  // scaled by k = 0.8 and turned about their axis, emitting L, level at
+  // height d over the square: the irradiance at the square is the integral
+  // of L cos_s cos_l / dist^2 over the part of the surface facing it (none
+  // of it is hidden from a point on the axis), by quadrature over the
+  // tube's angles. Their points are drawn in object space by inverting the
+  // distribution of the tube angle; the small standard error says they are
+  // (measured 1.5e-5 and 1.4e-5 of the value; the spindle found by bounces
+  // alone, 4.6e-4).
+  struct Case {
+    const char *name;
+    double R, r, b0, b1;
+  };
+  const double apple = std::acos(-0.3 / 0.5);
+  for (const Case &c : {Case{"ring", 1, 0.3, 0, 2 * std::numbers::pi},
+                        Case{"spindle", 0.3, 0.5, -apple, apple}}) {
+    SCOPED_TRACE(c.name);
+    Scene s;
+    const double k = 0.8, d = 1.5, L = 3, albedo = 0.7;
+    Finish lamp = matte(0);
+    lamp.emission = {L, L, L};
+    Entity torus;
+    torus.shape = Torus{c.R, c.r};
+    torus.worldFromObject = Transform::translate({0, d, 0}) *
+                            Transform::rotate({0, 1, 0}, 30) * Transform::scale(k, k, k);
+    torus.texture = addTexture(s, lamp);
+    s.entities.push_back(torus);
+    const auto [mean, standardError] = litSquare(s, matte(albedo), 32);
+    double irradiance = 0;
+    constexpr int kSteps = 2000;
+    for (int j = 0; j < kSteps; ++j) { // the tube angle b; the ring angle integrates to 2 pi
+      const double step = (c.b1 - c.b0) / kSteps, b = c.b0 + step * (j + 0.5);
+      const Vec3 p(k * (c.R + c.r * std::cos(b)), d + k * c.r * std::sin(b), 0);
+      const Vec3 n(std::cos(b), std::sin(b), 0);
+      const double dist2 = dot(p, p), dist = std::sqrt(dist2);
+      const double cosSquare = p.y / dist, cosLight = -dot(n, p) / dist;
+      if (cosLight <= 0) continue;
+      const double area =
+          k * k * c.r * (c.R + c.r * std::cos(b)) * 2 * std::numbers::pi * step;
+      irradiance += L * cosSquare * cosLight / dist2 * area;
+    }
+    const double expected = albedo / std::numbers::pi * irradiance;
+    EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected);
+    EXPECT_LT(standardError, 1e-4 * expected);
   }
-  const double expected = albedo / std::numbers::pi * irradiance;
-  EXPECT_NEAR(mean, expected, 4 * standardError + 1e-3 * expected);
-  EXPECT_LT(standardError, 5e-3 * expected);
 }
 
 TEST(PathIntegrator, CsgEmittersAreSampledWhereTheResultShowsThem) {

@@ -232,7 +232,10 @@ bool intersectCsg(const Csg &csg, uint32_t entityIndex, const Ray &ray, Hit &hit
     hit.ng = -hit.ng;
     hit.ns = -hit.ns;
   }
-  if (leaf.inheritsTexture) hit.pObject = affinePoint(leaf.textureSpace.inverseMatrix(), hit.p);
+  if (leaf.inheritsTexture)
+    hit.pObject = affinePoint(leaf.textureMotion ? leaf.textureMotion->inverseMatrixAt(hit.time)
+                                                 : leaf.textureSpace.inverseMatrix(),
+                              hit.p);
   return true;
 }
 

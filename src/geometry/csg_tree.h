@@ -5,10 +5,12 @@
 #pragma once
 
 #include "math/bounds.h"
+#include "math/transform_motion.h"
 #include "geometry/shapes/csg.h"
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace lray {
@@ -38,6 +40,9 @@ struct CsgTree {
     /// node), not in the leaf's own.
     bool inheritsTexture = false;
     Transform textureSpace;
+    /// textureSpace over the shutter where the node's placement moves
+    /// (lua/README.md, "Motion blur"): read at the hit's time.
+    std::shared_ptr<const TransformMotion> textureMotion;
   };
 
   std::vector<Node> nodes;   ///< [0] = root

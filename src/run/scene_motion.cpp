@@ -152,21 +152,28 @@ Scene foldMotionSteps(std::vector<Scene> steps, const std::vector<double> &clock
   for (size_t i = 0; i < scene.entities.size(); ++i) {
     Entity &e = scene.entities[i];
     e.motion = motionOf([i](const Scene &sc) { return sc.entities[i].worldFromObject; });
-    bool partsMove = false;
     if (const Csg *csg = std::get_if<Csg>(&e.shape); csg && csg->tree) {
       // A CSG's parts move each by its own placement: a copy of its tree
       // whose leaves carry their motion and whose bounds hold the shutter.
+      // A part's inherited pattern moves with the node it comes from.
       auto tree = std::make_shared<CsgTree>(*csg->tree);
+      bool partsMove = false, patternsMove = false;
       for (size_t part = 0; part < tree->leaves.size(); ++part) {
         CsgTree::Leaf &leaf = tree->leaves[part];
-        leaf.entity.motion = motionOf([i, part](const Scene &sc) {
-          return std::get<Csg>(sc.entities[i].shape).tree->leaves[part].entity.worldFromObject;
-        });
+        auto leafOf = [i, part](const Scene &sc) -> const CsgTree::Leaf & {
+          return std::get<Csg>(sc.entities[i].shape).tree->leaves[part];
+        };
+        if (leaf.inheritsTexture) {
+          leaf.textureMotion = motionOf([&](const Scene &sc) { return leafOf(sc).textureSpace; });
+          patternsMove = patternsMove || leaf.textureMotion;
+        }
+        leaf.entity.motion =
+            motionOf([&](const Scene &sc) { return leafOf(sc).entity.worldFromObject; });
         if (!leaf.entity.motion) continue;
         partsMove = true;
         leaf.bounds = shapeWorldBounds(leaf.entity);
       }
-      if (partsMove) {
+      if (partsMove || patternsMove) {
         tree->finish();
         e.shape = Csg{std::move(tree)};
       }

@@ -83,12 +83,19 @@ TEST(TransformMotion, AMotionBuiltWhereAnotherWasAnswersForItself) {
   EXPECT_EQ(m->inverseMatrixAt(0.5).m[0][3], -1.5);
 }
 
+/// A box and a motion that slides, turns by 170 degrees while stretching,
+/// and turns back about another axis: for the bounds tests.
+const Bounds3 kBox({-1, -0.5, -2}, {1, 0.5, 2});
+TransformMotion tumble() {
+  return TransformMotion({Transform::translate({0, 0, 0}),
+                          Transform::translate({3, 1, 0}) * Transform::rotate({1, 1, 0}, 170) *
+                              Transform::scale(1, 2, 1),
+                          Transform::translate({5, -1, 2}) * Transform::rotate({0, 1, 1}, 30)});
+}
+
 TEST(TransformMotion, SweptBoundsHoldTheBoxAtEveryTime) {
-  const Bounds3 box({-1, -0.5, -2}, {1, 0.5, 2});
-  const TransformMotion m({Transform::translate({0, 0, 0}),
-                           Transform::translate({3, 1, 0}) * Transform::rotate({1, 1, 0}, 170) *
-                               Transform::scale(1, 2, 1),
-                           Transform::translate({5, -1, 2}) * Transform::rotate({0, 1, 1}, 30)});
+  const Bounds3 box = kBox;
+  const TransformMotion m = tumble();
   const Bounds3 all = m.sweptBounds(box, 0, 1);
   const Bounds3 firstHalf = m.sweptBounds(box, 0, 0.5);
   Sampler random(1, 2, 3);
@@ -119,11 +126,8 @@ TEST(TransformMotion, SweptBoundsHoldTheBoxAtEveryTime) {
 // What Embree does with a moving primitive's step bounds: blends two
 // neighbouring steps' boxes linearly by the ray's time.
 TEST(TransformMotion, BlendedStepBoundsHoldTheBoxAtEveryTime) {
-  const Bounds3 box({-1, -0.5, -2}, {1, 0.5, 2});
-  const TransformMotion m({Transform::translate({0, 0, 0}),
-                           Transform::translate({3, 1, 0}) * Transform::rotate({1, 1, 0}, 170) *
-                               Transform::scale(1, 2, 1),
-                           Transform::translate({5, -1, 2}) * Transform::rotate({0, 1, 1}, 30)});
+  const Bounds3 box = kBox;
+  const TransformMotion m = tumble();
   auto corners = [&](const Transform &xf) {
     Bounds3 b;
     for (int c = 0; c < 8; ++c)

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace lray {
@@ -113,28 +114,33 @@ Film bruteForce(SceneScript &script) {
   return *average;
 }
 
+/// How far a render blurred over the whole clock interval [0, 1] is from
+/// brute force, from a second blurred render at another seed (the noise
+/// floor of the comparison) and from the sharp frame at clock 0.
+struct BlurDistances {
+  Film blur; ///< the blurred render (Embree)
+  double bruteForce, noise, sharp;
+};
+BlurDistances blurDistances(SceneScript &script) {
+  SceneInfo blurred = script.info();
+  blurred.shutter = 1;
+  Film blur = render(script, blurred, "embree");
+  const Film blur2 = render(script, blurred, "embree", 1000);
+  const Film sharp = render(script, script.info(), "embree");
+  const double bruteForceDistance = blockDifference(blur, bruteForce(script));
+  const double noise = blockDifference(blur, blur2), unblurred = blockDifference(blur, sharp);
+  return {std::move(blur), bruteForceDistance, noise, unblurred};
+}
+
 TEST(MotionBlur, MatchesTheAverageOfFramesAtClocksInsideTheShutter) {
   SceneScript script = SceneScript::fromString(kScene, "blur.lua");
-  SceneInfo blurred = script.info();
-  blurred.shutter = 1; // the whole interval [0, 1]: one frame's clock range
-  const Film blur = render(script, blurred, "embree");
-  // A second, independent blurred render: the noise floor of the comparison.
-  const Film blur2 = render(script, blurred, "embree", 1000);
-  const Film average = bruteForce(script);
-
-  SceneInfo still = script.info();
-  still.samples = 16;
-  const Film sharp = render(script, still, "embree");
-
-  const double noise = blockDifference(blur, blur2);
-  const double bruteForce = blockDifference(blur, average);
-  const double unblurred = blockDifference(blur, sharp);
+  const BlurDistances d = blurDistances(script);
   // Measured: brute force 0.0030, two blurred renders 0.0035, the sharp
   // frame 0.30; turns not interpolated (each half of the shutter at one
   // end's angle) gave 0.025, the CSG's pattern left where it is at the
   // shutter's opening 0.026.
-  EXPECT_LT(bruteForce, 2 * noise) << "noise " << noise;
-  EXPECT_GT(unblurred, 20 * bruteForce) << "the test could not tell a sharp frame";
+  EXPECT_LT(d.bruteForce, 2 * d.noise) << "noise " << d.noise;
+  EXPECT_GT(d.sharp, 20 * d.bruteForce) << "the test could not tell a sharp frame";
 }
 
 // Emitters that move, under the path tracer: each sampled where it is at
@@ -166,23 +172,16 @@ end
 
 TEST(MotionBlur, PathTracedMovingEmittersMatchTheAverageOfFrames) {
   SceneScript script = SceneScript::fromString(kGlowScene, "glow.lua");
-  SceneInfo blurred = script.info();
-  blurred.shutter = 1;
-  const Film blur = render(script, blurred, "embree");
-  const Film blur2 = render(script, blurred, "embree", 1000);
-  const Film average = bruteForce(script);
-  SceneInfo still = script.info();
-  const Film sharp = render(script, still, "embree");
-  const double noise = blockDifference(blur, blur2);
-  const double bruteForceDifference = blockDifference(blur, average);
-  const double unblurred = blockDifference(blur, sharp);
+  const BlurDistances d = blurDistances(script);
   // Measured: brute force 0.025, two blurred renders 0.026, the sharp
   // frame 1.76; emitters sampled where they are at the shutter's opening
   // (as before they could move) gave 0.21.
-  EXPECT_LT(bruteForceDifference, 2 * noise) << "noise " << noise;
-  EXPECT_GT(unblurred, 5 * bruteForceDifference) << "the test could not tell a sharp frame";
+  EXPECT_LT(d.bruteForce, 2 * d.noise) << "noise " << d.noise;
+  EXPECT_GT(d.sharp, 5 * d.bruteForce) << "the test could not tell a sharp frame";
   // Both backends, the same bytes.
-  EXPECT_EQ(render(script, blurred, "kdtree").data(), blur.data());
+  SceneInfo blurred = script.info();
+  blurred.shutter = 1;
+  EXPECT_EQ(render(script, blurred, "kdtree").data(), d.blur.data());
 }
 
 TEST(MotionBlur, BothBackendsAndAnyThreadCountGiveTheSameBytesAndShutterZeroNoBlur) {

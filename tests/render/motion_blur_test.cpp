@@ -209,15 +209,25 @@ TEST(MotionBlur, BothBackendsAndAnyThreadCountGiveTheSameBytesAndShutterZeroNoBl
   EXPECT_NE(closed.data(), embree.data());
 }
 
-TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
+/// kScene's frame 0 with the given shutter and motion steps, folded;
+/// `calls`: how many times scene(clock) ran.
+Scene foldedScene(double shutter, int steps, int &calls) {
   SceneScript script = SceneScript::fromString(kScene, "blur.lua");
   SceneInfo info = script.info();
-  info.shutter = 0.5;
-  info.motionSteps = 4;
+  info.shutter = shutter;
+  info.motionSteps = steps;
+  calls = 0;
+  return buildFrameScene(script, info, 0, calls);
+}
+
+TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
   int calls = 0;
-  const Scene scene = buildFrameScene(script, info, 0, calls);
+  const Scene scene = foldedScene(0.5, 4, calls);
   EXPECT_EQ(calls, 4);
   EXPECT_EQ(scene.motionSteps, 4);
+  SceneInfo info;
+  info.shutter = 0.5;
+  info.motionSteps = 4;
   EXPECT_EQ(motionClocks(info, 0), (std::vector<double>{0, 0.5 / 3, 1.0 / 3, 0.5}));
   ASSERT_EQ(scene.entities.size(), 5u);
   // The CSG: its parts move, each by its own placement.
@@ -243,12 +253,8 @@ TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
 // ray's time (accel/kdtree/moving_boxes.h) must never turn away a ray that
 // hits it, and should turn away some that do not.
 TEST(MotionBlur, AMovingEntitysBoundsAtARaysTimeHoldEveryHit) {
-  SceneScript script = SceneScript::fromString(kScene, "blur.lua");
-  SceneInfo info = script.info();
-  info.shutter = 1;
-  info.motionSteps = 3;
   int calls = 0;
-  const Scene scene = buildFrameScene(script, info, 0, calls);
+  const Scene scene = foldedScene(1, 3, calls);
   const MovingBoxes boxes(scene);
   Sampler random(7, 8, 9);
   int hits = 0, turnedAway = 0;

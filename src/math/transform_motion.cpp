@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <atomic>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -310,7 +311,7 @@ Mat4 TransformMotion::inverseMatrixAt(double time) const {
   uint64_t bits;
   std::memcpy(&bits, &time, sizeof bits);
   const uint64_t hash = (bits ^ (serial_ * 0x9e3779b97f4a7c15ull)) * 0xff51afd7ed558ccdull;
-  Entry &e = cache[hash >> 52];
+  Entry &e = cache[hash >> (64 - std::countr_zero(kEntries))]; // the top bits
   if (e.serial == serial_ && e.time == time) return e.inverse;
   e.serial = serial_;
   e.time = time;

@@ -1,6 +1,7 @@
 #include "compare/case_render.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <csignal>
@@ -37,6 +38,29 @@ std::string lastLines(const fs::path &path, size_t lines) {
   return out;
 }
 
+/// Removes option `name` (with its value, or as name=value) from
+/// args[from..]: the tool gives its own.
+void dropOption(std::vector<std::string> &args, size_t from, const std::string &name) {
+  for (size_t i = from; i < args.size();) {
+    if (args[i] == name && i + 1 < args.size())
+      args.erase(args.begin() + i, args.begin() + i + 2);
+    else if (args[i].rfind(name + "=", 0) == 0)
+      args.erase(args.begin() + i);
+    else
+      ++i;
+  }
+}
+
+/// The non-finite sample count of lray's --stats file (0 when unreadable:
+/// a missing count is not a failure of the render).
+uint64_t nonFiniteSamples(const fs::path &stats) {
+  std::ifstream in(stats);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("non_finite_samples")) return 0;
+  return j["non_finite_samples"].is_number_unsigned() ? j["non_finite_samples"].get<uint64_t>()
+                                                      : 0;
+}
+
 } // namespace
 
 CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::string &dir,
@@ -60,20 +84,17 @@ CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::st
   std::vector<std::string> args = {
       lray, c.scene, (fs::path(dir) / "frames").string(), "--frames", std::to_string(c.frame), "-f",
       ext,  "-q"};
+  const size_t fixed = args.size();
   args.insert(args.end(), c.options.begin(), c.options.end());
   if (forApproval) args.insert(args.end(), c.approveOptions.begin(), c.approveOptions.end());
+  // lray takes one --seed and one --stats: drop the options' own.
   if (seed) {
-    // lray takes one --seed: drop the options' own.
-    for (size_t i = 8; i < args.size();) {
-      if (args[i] == "--seed" && i + 1 < args.size())
-        args.erase(args.begin() + i, args.begin() + i + 2);
-      else if (args[i].rfind("--seed=", 0) == 0)
-        args.erase(args.begin() + i);
-      else
-        ++i;
-    }
+    dropOption(args, fixed, "--seed");
     args.insert(args.end(), {"--seed", std::to_string(*seed)});
   }
+  const fs::path stats = fs::path(dir) / "stats.json";
+  dropOption(args, fixed, "--stats");
+  args.insert(args.end(), {"--stats", stats.string()});
   std::vector<char *> argv;
   for (std::string &a : args)
     argv.push_back(a.data());
@@ -136,6 +157,7 @@ CaseRender renderCase(const std::string &lray, const SuiteCase &c, const std::st
   }
   r.ok = true;
   r.image = images.front().string();
+  r.nonFiniteSamples = nonFiniteSamples(stats);
   return r;
 }
 

@@ -130,11 +130,19 @@ std::vector<CaseResult> runSuite(const ToolOptions &o) {
         second = again.image;
       }
       if (r.detail.empty()) compareFiles(r, c.criteria, o.html, second);
+      // lray leaves NaN and infinite samples out of the image: a bug that
+      // a matching image would hide. Never approved.
+      if (render.nonFiniteSamples > 0) {
+        r.status = CaseStatus::Fail;
+        r.detail = fmt::format("{} samples were not finite (NaN or infinite; lray left them "
+                               "out of the image){}",
+                               render.nonFiniteSamples, r.detail.empty() ? "" : "; " + r.detail);
+      }
       // An approved image the new one matches pixel for pixel stays as it
       // is (another PNG encoder's bytes are no change to commit).
       const bool same = r.outcome && r.outcome->maxDifference == 0;
-      if (o.approve && approvedNow.insert(fs::weakly_canonical(r.approved).string()).second &&
-          !same) {
+      if (o.approve && render.nonFiniteSamples == 0 &&
+          approvedNow.insert(fs::weakly_canonical(r.approved).string()).second && !same) {
         if (!fs::exists(r.approved)) r.detail = "new";
         approve(r);
       }

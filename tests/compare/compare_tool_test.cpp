@@ -167,6 +167,35 @@ TEST_F(CompareTool, ApprovesPassesFailsAfterAChangeAndReports) {
   EXPECT_EQ(r.status, 1);
 }
 
+// lray leaves NaN and infinite samples out of the image and counts them
+// (--stats): the tool fails such a render whatever the image says, and
+// never approves it. Here an emission and a light near the largest double
+// overflow when the shading equation adds them.
+TEST_F(CompareTool, ARenderWithNonFiniteSamplesFailsAndIsNeverApproved) {
+  write(dir / "overflow.lua", R"(scene_info = SceneInfo() { image_width = 8, image_height = 8 }
+function scene()
+  local s = Scene() { camera = Perspective(40, 1) {
+    transform = LookAt(Vector(0, 0, -5), Vector(0, 0, 0), y) } }
+  local huge = Color(1.7e308, 1.7e308, 1.7e308)
+  s:add_entity(Sphere() { texture = Texture() { finish = Finish() { emission = huge } } })
+  s:add_light(Light() { color = huge, transform = Translate(Vector(0, 0, -5)) })
+  return s
+end
+)");
+  write(dir / "overflow.toml", "[[case]]\nname = \"overflow\"\nscene = \"overflow.lua\"\n"
+                               "approved = \"approved/overflow.png\"\n"
+                               "options = [\"--stats\", \"mine.json\"]\n");
+  ToolRun r = compare(dir, "--suite overflow.toml --approve");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_FALSE(fs::exists(dir / "approved/overflow.png"));
+  EXPECT_NE(r.err.find("overflow: 16 samples were not finite (NaN or infinite"),
+            std::string::npos)
+      << r.err;
+  // The tool's own --stats file, not the one the options name.
+  EXPECT_TRUE(fs::exists(dir / "lray-compare-out/overflow/stats.json"));
+  EXPECT_FALSE(fs::exists(dir / "mine.json"));
+}
+
 TEST_F(CompareTool, UsageAndSuiteErrorsExitTwoNamingTheLine) {
   write(dir / "bad.toml", "[[case]]\nname = \"a\"\nscene = \"scene.lua\"\n"
                           "approved = \"a.png\"\ntreshold = 0.1\n");

@@ -133,10 +133,14 @@ std::vector<CaseResult> runSuite(const ToolOptions &o) {
       // lray leaves NaN and infinite samples out of the image: a bug that
       // a matching image would hide. Never approved.
       if (render.nonFiniteSamples > 0) {
+        // The comparison's verdict follows, unless it is only that there
+        // is no approved image yet (which would suggest --approve).
+        const bool compared = fs::exists(r.approved);
         r.status = CaseStatus::Fail;
         r.detail = fmt::format("{} samples were not finite (NaN or infinite; lray left them "
                                "out of the image){}",
-                               render.nonFiniteSamples, r.detail.empty() ? "" : "; " + r.detail);
+                               render.nonFiniteSamples,
+                               compared && !r.detail.empty() ? "; " + r.detail : "");
       }
       // An approved image the new one matches pixel for pixel stays as it
       // is (another PNG encoder's bytes are no change to commit).

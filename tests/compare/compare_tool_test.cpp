@@ -191,9 +191,21 @@ end
   EXPECT_NE(r.err.find("overflow: 16 samples were not finite (NaN or infinite"),
             std::string::npos)
       << r.err;
+  EXPECT_EQ(r.err.find("--approve"), std::string::npos) << r.err; // no advice to approve it
   // The tool's own --stats file, not the one the options name.
   EXPECT_TRUE(fs::exists(dir / "lray-compare-out/overflow/stats.json"));
   EXPECT_FALSE(fs::exists(dir / "mine.json"));
+
+  // Against an approved image: the count, then the comparison's verdict.
+  fs::create_directories(dir / "approved");
+  fs::copy_file(dir / "lray-compare-out/overflow/frames/overflow.png",
+                dir / "approved/overflow.png");
+  r = compare(dir, "--suite overflow.toml");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("FAIL  overflow: 16 samples were not finite (NaN or infinite; lray left "
+                       "them out of the image); pixel:"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(CompareTool, UsageAndSuiteErrorsExitTwoNamingTheLine) {

@@ -108,26 +108,15 @@ double turnAngle(const Quaternion &a, const Quaternion &b) {
   return 2 * std::acos(std::min(1.0, std::fabs(dot(a, b))));
 }
 
-/// The affine matrix of linear part l and translation t (into `forward`
-/// when given) and its inverse from li, the inverse of l (into `inverse`
-/// when given).
-void place(const Mat3 &l, const Mat3 &li, const Vec3 &t, Mat4 *forward, Mat4 *inverse) {
-  if (forward) {
-    Mat4 &m = *forward;
-    m.m[3] = {0, 0, 0, 1};
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) m.m[a][b] = l[a][b];
-      m.m[a][3] = t[a];
-    }
+/// The affine matrix of linear part l and translation t.
+Mat4 place(const Mat3 &l, const Vec3 &t) {
+  Mat4 m;
+  m.m[3] = {0, 0, 0, 1};
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) m.m[a][b] = l[a][b];
+    m.m[a][3] = t[a];
   }
-  if (inverse) {
-    Mat4 &w = *inverse;
-    w.m[3] = {0, 0, 0, 1};
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) w.m[a][b] = li[a][b];
-      w.m[a][3] = -(li[a][0] * t.x + li[a][1] * t.y + li[a][2] * t.z);
-    }
-  }
+  return m;
 }
 
 /// A number no other TransformMotion of the process has (from 1).
@@ -168,9 +157,7 @@ TransformParts decompose(const Mat4 &m) {
 }
 
 Mat4 compose(const TransformParts &parts) {
-  Mat4 m;
-  place(product(toMatrix(parts.rotation), parts.stretch), Mat3{}, parts.translation, &m, nullptr);
-  return m;
+  return place(product(toMatrix(parts.rotation), parts.stretch), parts.translation);
 }
 
 TransformMotion::TransformMotion(std::vector<Transform> steps)
@@ -274,7 +261,7 @@ void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inv
       rotation[a][b] = s.rotation[0][a][b] + c * s.rotation[1][a][b] + sn * s.rotation[2][a][b];
       stretch[a][b] += s.stretchChange[a][b] * u;
     }
-  place(product(rotation, stretch), Mat3{}, t, forward, nullptr);
+  *forward = place(product(rotation, stretch), t);
 }
 
 Transform TransformMotion::at(double time) const {

@@ -99,8 +99,9 @@ private:
   };
   /// inverseMatrixAt without its cache, written into `inverse`.
   void computeInverseAt(double time, Mat4 &inverse) const;
-  /// Segment i's matrix at fraction u (when `forward` is given) and, for a
-  /// fixed stretch, its inverse (when `inverse` is).
+  /// Segment i's matrix at fraction u (when `forward` is given: always
+  /// without a fixed stretch) and, for a fixed stretch, its inverse (when
+  /// `inverse` is).
   void segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const;
   /// How fast a point of `objectBox` can move over segment i (distance per
   /// whole segment).

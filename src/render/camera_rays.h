@@ -5,10 +5,10 @@
 
 #include "math/affine.h"
 #include "math/constants.h"
+#include "math/motion_steps.h"
 #include "math/ray.h"
 #include "scene/scene.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -73,10 +73,9 @@ private:
   /// generate for a moving camera (Camera::motion): placed at `time`.
   [[gnu::noinline]] Ray generateMoving(double px, double py, double lensU, double lensV,
                                        float time) const {
-    const double x = std::clamp(static_cast<double>(time), 0.0, 1.0) *
-                     static_cast<double>(path_.size() - 1);
-    const size_t i = std::min(static_cast<size_t>(x), path_.size() - 2);
-    const double f = x - static_cast<double>(i);
+    size_t i;
+    double f;
+    locateMotionStep(time, path_.size(), i, f); // the table's entries as steps
     MatrixPlacement moved;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c)

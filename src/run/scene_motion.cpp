@@ -90,7 +90,6 @@ std::string shapeChange(const Entity &a, const Entity &b) {
   return "";
 }
 
-
 Vec3 lightPosition(const SceneLight &light) {
   return std::visit([](const auto &l) { return l.worldFromLight.applyPoint({0, 0, 0}); }, light);
 }

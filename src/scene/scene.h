@@ -127,6 +127,8 @@ struct Entity {
 
   /// Whether anything about it moves while the shutter is open.
   bool moves() const { return motion || vertexMotion; }
+  /// The placement at shutter time `time` (Ray::time).
+  Transform placementAt(double time) const { return motion ? motion->at(time) : worldFromObject; }
 
   ShapeKind kind() const { return static_cast<ShapeKind>(shape.index()); }
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }

@@ -38,10 +38,6 @@ bool Emitters::keepsRound(const Transform &t) {
          std::fabs(dot(b, c)) <= tolerance * la;
 }
 
-Transform Emitters::placementAt(const Entity &e, float time) {
-  return e.motion ? e.motion->at(time) : e.worldFromObject;
-}
-
 Emitters::Ball Emitters::ballAt(const Entry &entry, float time) const {
   const Entity &e = shapeOf(entry);
   const Mat4 m = e.motion ? e.motion->matrixAt(time) : e.worldFromObject.matrix();
@@ -52,7 +48,7 @@ Emitters::Ball Emitters::ballAt(const Entry &entry, float time) const {
 double Emitters::triangleArea(const Entry &entry, float time) const {
   if (!entry.moves) return entry.area;
   const Entity &e = scene_.entities[entry.entity];
-  const Transform placement = placementAt(e, time);
+  const Transform placement = e.placementAt(time);
   const uint32_t *v = e.mesh->triangles[entry.part].v;
   Vec3 corner[3];
   for (int k = 0; k < 3; ++k)
@@ -259,7 +255,7 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, float time, Sampler &sampler)
     nObject = Vec3(face / 2 == 0 ? side * 2 : 0, face / 2 == 1 ? side * 2 : 0,
                    face / 2 == 2 ? side * 2 : 0);
   }
-  const Transform placement = placementAt(e, time);
+  const Transform placement = e.placementAt(time);
   s.p = affinePoint(placement.matrix(), pObject);
   s.n = unitVector(affineNormal(placement.inverseMatrix(), nObject));
   s.pdfArea = entry.probability * worldAreaFactor(placement, s.n) / entry.area;
@@ -364,7 +360,7 @@ double Emitters::pdfArea(const Hit &hit, const Vec3 &ref) const {
   if (entry->round)
     if (const double cone = coneSize(ballAt(*entry, hit.time), ref); cone > 0)
       return conePdfArea(*entry, cone, ref, hit.p, hit.ng);
-  return entry->probability * worldAreaFactor(placementAt(shapeOf(*entry), hit.time), hit.ng) /
+  return entry->probability * worldAreaFactor(shapeOf(*entry).placementAt(hit.time), hit.ng) /
          entry->area;
 }
 

@@ -7,8 +7,8 @@
 // area for triangles). A CSG leaf's point counts only where it is a surface
 // of the result (the others are drawn and rejected: density 0). pdfArea
 // gives the same density for a point a path found by itself, for multiple
-// importance sampling. A moving emitter (lua/README.md, "Motion blur") is sampled
-// where it is at the time of the path's camera sample (Hit::time).
+// importance sampling. A moving emitter (lua/README.md, "Motion blur") is
+// sampled where it is at the time of the path's camera sample (Hit::time).
 #pragma once
 
 #include "math/color.h"
@@ -74,8 +74,6 @@ private:
   /// Whether placement `t` keeps a sphere a sphere (equal, orthogonal
   /// axes: a rotation, a uniform scale, a translation).
   static bool keepsRound(const Transform &t);
-  /// Where the entity is placed at shutter time `time`.
-  static Transform placementAt(const Entity &e, float time);
   /// A round sphere entry's ball at `time`.
   Ball ballAt(const Entry &entry, float time) const;
   /// Solid-angle sampling of a round sphere from `ref` outside it: the

@@ -268,7 +268,7 @@ TEST(MotionBlur, AMovingEntitysBoundsAtARaysTimeHoldEveryHit) {
     for (uint32_t e : {1u, 4u}) { // the sliding sphere and the turning CSG
       Hit hit;
       const bool hits_ = intersectShape(scene.entities[e], e, ray, hit);
-      const bool away = boxes.misses(e, ray);
+      const bool away = boxes.misses(e, ray, ray.tMax);
       ASSERT_FALSE(hits_ && away) << "entity " << e << " at time " << ray.time;
       hits += hits_;
       turnedAway += away;

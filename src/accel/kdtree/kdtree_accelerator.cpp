@@ -328,11 +328,7 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
   auto testInstance = [&](uint32_t prim, double &tBest) {
     const Instance &inst = instances_[prim];
     const Entity &entity = scene_.entities[inst.entity];
-    if (moving_.moves(inst.entity)) {
-      Ray bounded = ray;
-      bounded.tMax = tBest;
-      if (moving_.misses(inst.entity, bounded)) return false;
-    }
+    if (moving_.misses(inst.entity, ray, tBest)) return false;
     if (inst.meshTree == kAnalytic) {
       Ray bounded = ray;
       bounded.tMax = tBest;
@@ -370,7 +366,7 @@ template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const
   if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
-    if (moving_.misses(inst.entity, ray)) return false;
+    if (moving_.misses(inst.entity, ray, ray.tMax)) return false;
     if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
     double tObject = ray.tMax;
     MeshHit unused;
@@ -405,9 +401,7 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
     if (moving_.moves(inst.entity))
       for (uint32_t m = in; m != 0; m &= m - 1) {
         const int i = std::countr_zero(m);
-        Ray bounded = rays[i];
-        bounded.tMax = tBest[i];
-        if (moving_.misses(inst.entity, bounded)) in &= ~(1u << i);
+        if (moving_.misses(inst.entity, rays[i], tBest[i])) in &= ~(1u << i);
       }
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];

@@ -40,16 +40,16 @@ public:
   /// Whether entity `entity` moves (has step bounds here).
   bool moves(uint32_t entity) const { return !first_.empty() && first_[entity] != kNone; }
 
-  /// True when `ray`, over its [tMin, tMax], surely misses entity
-  /// `entity` at the ray's time; false for an entity that does not move.
-  bool misses(uint32_t entity, const Ray &ray) const {
+  /// True when `ray`, over [ray.tMin, tMax], surely misses entity `entity`
+  /// at the ray's time; false for an entity that does not move.
+  bool misses(uint32_t entity, const Ray &ray, double tMax) const {
     if (!moves(entity)) return false;
     size_t i;
     double u;
     locateMotionStep(ray.time, steps_, i, u);
     const Bounds3 &a = boxes_[first_[entity] + i], &b = boxes_[first_[entity] + i + 1];
     const double o[3] = {ray.o.x, ray.o.y, ray.o.z}, d[3] = {ray.d.x, ray.d.y, ray.d.z};
-    double tNear = ray.tMin, tFar = ray.tMax;
+    double tNear = ray.tMin, tFar = tMax;
     for (int k = 0; k < 3; ++k) {
       double lo = a.lo[k] + (b.lo[k] - a.lo[k]) * u, hi = a.hi[k] + (b.hi[k] - a.hi[k]) * u;
       // Widened far beyond the rounding of the blend and of the slab's t.

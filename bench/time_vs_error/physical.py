@@ -150,9 +150,34 @@ def write_tables(rows, peers, a):
                 f"{fmt(ratio)} | {r['wall_s']:.2f} | {fmt(tw)} |")
     lines += ["", "Worst ratio (best LRay mode): " +
               ", ".join(f"{k} {v:.2f}" for k, v in worst.items())]
+    if "mitsuba" in peers and "cycles" in peers:
+        lines += ["", *peer_against_peer(rows)]
     with open(os.path.join(a.out, "results.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+def peer_against_peer(rows):
+    """Cycles' render time (the best of its fixed and adaptive ladders) to
+    each Mitsuba rung's RMSE over Mitsuba's: what a peer does against the
+    1/3-of-Mitsuba target, so that a miss that is the target's can be told
+    from one that is LRay's."""
+    lines = ["Cycles against Mitsuba (a peer against the same target): Cycles' best render "
+             "time to each Mitsuba rung's RMSE over Mitsuba's render time.", "",
+             "| scene | Mitsuba spp | Mitsuba RMSE | Mitsuba s | Cycles s | Cycles / Mitsuba |",
+             "|---|---|---|---|---|---|"]
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        cycles = [r for r in rows if r["scene"] == scene and r["renderer"] == "cycles"]
+        ladders = [[(r["render_s"], r["rmse"]) for r in cycles if r["variant"] == variant]
+                   for variant in ("fixed", "adaptive")]
+        for r in rows:
+            if r["scene"] != scene or r["renderer"] != "mitsuba":
+                continue
+            times = [t for t in (interpolate_time(ladder, r["rmse"]) for ladder in ladders) if t]
+            best = min(times) if times else None
+            lines.append(f"| {scene} | {r['setting']} | {r['rmse']:.4f} | {r['render_s']:.2f} | "
+                         f"{fmt(best)} | {fmt(best and best / r['render_s'])} |")
+    return lines
 
 
 def fmt(x):

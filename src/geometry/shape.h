@@ -76,6 +76,30 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
                      double b1, double b2, const Ray &worldRay, const Vec3 &frameOrigin,
                      Hit &hit);
 
+/// The point of mesh triangle `triangle` at barycentrics (b1, b2), placed
+/// where its entity is at shutter time `time`, and its unit geometric
+/// normal as fillTriangleHit gives a hit there (on the side the vertex
+/// normals say is outside): points drawn on emitting meshes.
+void triangleSurfacePoint(const Entity &entity, uint32_t triangle, double b1, double b2,
+                          float time, Vec3 &p, Vec3 &ng);
+
+/// A triangle of a mesh entity that does not move, ready to have many
+/// points drawn on it: triangleSurfacePoint's results, bit for bit, from
+/// corners read once and, where the vertex normals put every point's
+/// normal on the same side, a normal computed once.
+class FixedTriangle {
+public:
+  FixedTriangle(const Entity &entity, uint32_t triangle);
+  void surfacePoint(double b1, double b2, Vec3 &p, Vec3 &ng) const;
+
+private:
+  const Entity *entity_;
+  uint32_t triangle_;
+  bool constantNormal_ = false;
+  Vec3 corner_[3]; ///< object space
+  Vec3 ng_;        ///< when constantNormal_
+};
+
 /// One mesh hit to fill: fillTriangleHit's arguments.
 struct TriangleHitQuery {
   const Entity *entity;

@@ -56,43 +56,121 @@ Bounds3 meshObjectBounds(const MeshData &mesh) {
 // the two bit for bit.
 namespace {
 
+/// A triangle's corners: vertex and normal indices, uv indices (or none),
+/// and positions in object space at the ray's time.
+struct Corners {
+  uint32_t v[3];
+  int32_t n[3];
+  const int32_t *uv = nullptr;
+  Vec3 p[3];
+};
+
+Corners cornersAt(const Entity &entity, uint32_t triangle, float time) {
+  const MeshData &mesh = *entity.mesh;
+  Corners c;
+  // A hit is usually a cache miss on these: read the 12-byte
+  // triangleIndices entry when the corners carry nothing more
+  // (vertex-indexed normals, no uvs), else the 36-byte MeshTriangle.
+  if (mesh.vertexNormalBase >= 0) {
+    const uint32_t *corners = &mesh.triangleIndices[3 * size_t(triangle)];
+    for (int k = 0; k < 3; ++k) {
+      c.v[k] = corners[k];
+      c.n[k] = static_cast<int32_t>(c.v[k]) + mesh.vertexNormalBase;
+    }
+  } else {
+    const MeshTriangle &tri = mesh.triangles[triangle];
+    for (int k = 0; k < 3; ++k) {
+      c.v[k] = tri.v[k];
+      c.n[k] = tri.n[k];
+    }
+    c.uv = tri.uv;
+  }
+  const MeshMotion *deform = entity.vertexMotion.get();
+  for (int k = 0; k < 3; ++k) // moving vertices: where they are at the ray's time
+    c.p[k] = deform ? deform->position(c.v[k], time) : toVec3(mesh.positions[c.v[k]]);
+  return c;
+}
+
+/// Barycentrics a hair outside the triangle (a hit on an edge): keep the
+/// point on it.
+void clampBarycentrics(double &b1, double &b2) {
+  b1 = std::clamp(b1, 0.0, 1.0);
+  b2 = std::clamp(b2, 0.0, 1.0);
+  if (b1 + b2 > 1) {
+    double s = b1 + b2;
+    b1 /= s;
+    b2 /= s;
+  }
+}
+
+/// The unit geometric normal `ng` at barycentrics (b0, b1, b2) in world
+/// space, and the interpolated vertex normal `nw` (world, not normalised;
+/// nwLen2 = 0 when the mesh has none): ng is on the side the vertex normals
+/// say is outside, and against `rayDir` where the triangle is degenerate.
+struct TriangleNormals {
+  Vec3 ng, nw;
+  double nwLen2 = 0;
+  bool vertexNormals = false; ///< whether the mesh gives this triangle's corners normals
+};
+
+TriangleNormals triangleNormals(const Entity &entity, const Corners &c, const Transform &xf,
+                                double b0, double b1, double b2, float time, const Vec3 &rayDir) {
+  const MeshData &mesh = *entity.mesh;
+  const bool identity = xf.isIdentity();
+  // Face normal by the right-hand rule on the corner order (the scene
+  // layer's computed vertex normals use the same convention).
+  const Mat4 &inv = xf.inverseMatrix();
+  TriangleNormals out;
+  Vec3 ng = cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+  if (!identity) ng = affineNormal(inv, ng);
+
+  // Vertex normals: by normal index, else per vertex index, else none.
+  int64_t normalAt[3] = {-1, -1, -1};
+  if (c.n[0] >= 0 && c.n[1] >= 0 && c.n[2] >= 0) {
+    for (int k = 0; k < 3; ++k)
+      normalAt[k] = c.n[k];
+  } else if (mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty()) {
+    for (int k = 0; k < 3; ++k)
+      normalAt[k] = c.v[k];
+  }
+  out.vertexNormals = normalAt[0] >= 0;
+  if (out.vertexNormals) {
+    const MeshMotion *deform = entity.vertexMotion.get();
+    Vec3 cn[3];
+    for (int k = 0; k < 3; ++k)
+      cn[k] = deform ? deform->normal(static_cast<uint32_t>(normalAt[k]), time)
+                     : toVec3(mesh.normals[static_cast<size_t>(normalAt[k])]);
+    out.nw = cn[0] * b0 + cn[1] * b1 + cn[2] * b2;
+    if (!identity) out.nw = affineNormal(inv, out.nw);
+    out.nwLen2 = dot(out.nw, out.nw);
+  }
+  if (!(out.nwLen2 > 0 && std::isfinite(out.nwLen2))) out.nwLen2 = 0;
+  const bool haveNormal = out.nwLen2 > 0;
+  // The mesh's normals say which side is outside; the face normal follows
+  // them so that ng and ns are on the same side (the sign needs no
+  // normalisation, so it does not wait for the square roots).
+  const bool flip = haveNormal && dot(out.nw, ng) < 0;
+  double ngLen = length(ng);
+  if (ngLen > 0) {
+    ng *= (flip ? -1 : 1) / ngLen;
+  } else {
+    ng = unitVector(-rayDir);
+    if (haveNormal && dot(out.nw, ng) < 0) ng = -ng;
+  }
+  out.ng = ng;
+  return out;
+}
+
 /// fillTriangleHit with the entity placed by `xf` (its own transform, or a
 /// moving one's at the ray's time).
 void fillPlacedTriangleHit(const Entity &entity, const Transform &xf, uint32_t entityIndex,
                            uint32_t triangle, double t, double b1, double b2, const Ray &worldRay,
                            const Vec3 &frameOrigin, Hit &hit) {
-  const MeshData &mesh = *entity.mesh;
-  // Corner indices. A hit is usually a cache miss on these: read the
-  // 12-byte triangleIndices entry when the corners carry nothing more
-  // (vertex-indexed normals, no uvs), else the 36-byte MeshTriangle.
-  uint32_t v[3];
-  int32_t n[3];
-  const int32_t *uv = nullptr;
-  if (mesh.vertexNormalBase >= 0) {
-    const uint32_t *corners = &mesh.triangleIndices[3 * size_t(triangle)];
-    for (int k = 0; k < 3; ++k) {
-      v[k] = corners[k];
-      n[k] = static_cast<int32_t>(v[k]) + mesh.vertexNormalBase;
-    }
-  } else {
-    const MeshTriangle &tri = mesh.triangles[triangle];
-    for (int k = 0; k < 3; ++k) {
-      v[k] = tri.v[k];
-      n[k] = tri.n[k];
-    }
-    uv = tri.uv;
-  }
+  const Corners c = cornersAt(entity, triangle, worldRay.time);
+  const Vec3 &p0 = c.p[0], &p1 = c.p[1], &p2 = c.p[2];
   // Most meshes are placed by their vertices: skip the products (an
   // identity product gives the same values).
   const bool identity = xf.isIdentity();
-  Vec3 p0 = toVec3(mesh.positions[v[0]]), p1 = toVec3(mesh.positions[v[1]]),
-       p2 = toVec3(mesh.positions[v[2]]);
-  const MeshMotion *deform = entity.vertexMotion.get();
-  if (deform) { // moving vertices: where they are at the ray's time
-    p0 = deform->position(v[0], worldRay.time);
-    p1 = deform->position(v[1], worldRay.time);
-    p2 = deform->position(v[2], worldRay.time);
-  }
   // The backends' tests differ in precision (Embree's float barycentrics
   // are off by ~1e-7 of the triangle's size: on the 200-unit gallery floor
   // a checker edge moved by 1e-5), so the barycentrics and t are solved
@@ -121,63 +199,17 @@ void fillPlacedTriangleHit(const Entity &entity, const Transform &xf, uint32_t e
       }
     }
   }
-  // Barycentrics a hair outside the triangle (a hit on an edge): keep the
-  // point on it.
-  b1 = std::clamp(b1, 0.0, 1.0);
-  b2 = std::clamp(b2, 0.0, 1.0);
-  if (b1 + b2 > 1) {
-    double s = b1 + b2;
-    b1 /= s;
-    b2 /= s;
-  }
+  clampBarycentrics(b1, b2);
   double b0 = 1 - b1 - b2;
 
   // Everything is computed in locals and stored once at the end: stores
   // into `hit` in between would make the compiler reload through it.
   Vec3 pObject = p0 * b0 + p1 * b1 + p2 * b2;
   Vec3 p = identity ? pObject : affinePoint(xf.matrix(), pObject);
-
-  // Face normal by the right-hand rule on the corner order (the scene
-  // layer's computed vertex normals use the same convention).
-  const Mat4 &inv = xf.inverseMatrix();
-  Vec3 ng = cross(p1 - p0, p2 - p0);
-  if (!identity) ng = affineNormal(inv, ng);
-
-  // Vertex normals: by normal index, else per vertex index, else none.
-  int64_t normalAt[3] = {-1, -1, -1};
-  if (n[0] >= 0 && n[1] >= 0 && n[2] >= 0) {
-    for (int k = 0; k < 3; ++k)
-      normalAt[k] = n[k];
-  } else if (mesh.normals.size() == mesh.positions.size() && !mesh.normals.empty()) {
-    for (int k = 0; k < 3; ++k)
-      normalAt[k] = v[k];
-  }
-  Vec3 nw;
-  double nwLen2 = 0;
-  if (normalAt[0] >= 0) {
-    Vec3 c[3];
-    for (int k = 0; k < 3; ++k)
-      c[k] = deform ? deform->normal(static_cast<uint32_t>(normalAt[k]), worldRay.time)
-                    : toVec3(mesh.normals[static_cast<size_t>(normalAt[k])]);
-    nw = c[0] * b0 + c[1] * b1 + c[2] * b2;
-    if (!identity) nw = affineNormal(inv, nw);
-    nwLen2 = dot(nw, nw);
-  }
-  bool haveNormal = nwLen2 > 0 && std::isfinite(nwLen2);
-  // The mesh's normals say which side is outside; the face normal follows
-  // them so that ng and ns are on the same side (the sign needs no
-  // normalisation, so it does not wait for the square roots).
-  bool flip = haveNormal && dot(nw, ng) < 0;
-
-  double ngLen = length(ng);
-  if (ngLen > 0) {
-    ng *= (flip ? -1 : 1) / ngLen;
-  } else {
-    ng = unitVector(-worldRay.d);
-    if (haveNormal && dot(nw, ng) < 0) ng = -ng;
-  }
-  Vec3 ns = ng;
-  if (haveNormal && entity.smooth) ns = nw * (1 / std::sqrt(nwLen2));
+  const TriangleNormals normals =
+      triangleNormals(entity, c, xf, b0, b1, b2, worldRay.time, worldRay.d);
+  Vec3 ns = normals.ng;
+  if (normals.nwLen2 > 0 && entity.smooth) ns = normals.nw * (1 / std::sqrt(normals.nwLen2));
 
   hit.t = t;
   hit.time = worldRay.time;
@@ -185,8 +217,10 @@ void fillPlacedTriangleHit(const Entity &entity, const Transform &xf, uint32_t e
   hit.primitive = triangle;
   hit.pObject = pObject;
   hit.p = p;
-  hit.ng = ng;
+  hit.ng = normals.ng;
   hit.ns = ns;
+  const MeshData &mesh = *entity.mesh;
+  const int32_t *uv = c.uv;
   if (uv && uv[0] >= 0 && uv[1] >= 0 && uv[2] >= 0) {
     const Vec2f &t0 = mesh.uvs[uv[0]], &t1 = mesh.uvs[uv[1]], &t2 = mesh.uvs[uv[2]];
     hit.u = b0 * t0.u + b1 * t1.u + b2 * t2.u;
@@ -223,6 +257,61 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
   }
   fillPlacedTriangleHit(entity, entity.worldFromObject, entityIndex, triangle, t, b1, b2, worldRay,
                         frameOrigin, hit);
+}
+
+void triangleSurfacePoint(const Entity &entity, uint32_t triangle, double b1, double b2,
+                          float time, Vec3 &p, Vec3 &ng) {
+  const Transform placement = entity.motion ? entity.motion->at(time) : entity.worldFromObject;
+  const Corners c = cornersAt(entity, triangle, time);
+  clampBarycentrics(b1, b2);
+  const double b0 = 1 - b1 - b2;
+  const Vec3 pObject = c.p[0] * b0 + c.p[1] * b1 + c.p[2] * b2;
+  p = placement.isIdentity() ? pObject : affinePoint(placement.matrix(), pObject);
+  ng = triangleNormals(entity, c, placement, b0, b1, b2, time, Vec3(0, 0, 1)).ng;
+}
+
+FixedTriangle::FixedTriangle(const Entity &entity, uint32_t triangle)
+    : entity_(&entity), triangle_(triangle) {
+  const Corners c = cornersAt(entity, triangle, 0);
+  for (int k = 0; k < 3; ++k)
+    corner_[k] = c.p[k];
+  // The side of ng follows the sign of dot(nw, face), nw the interpolated
+  // vertex normal and face the unflipped face normal (both in world space,
+  // where the sign is taken): a weighted mean of the corners' dots. The
+  // same sign at all three corners, well clear of 0, is that sign
+  // everywhere on the triangle.
+  const Transform &xf = entity.worldFromObject;
+  Vec3 face = cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+  if (!xf.isIdentity()) face = affineNormal(xf.inverseMatrix(), face);
+  const double faceLength = length(face);
+  if (!(faceLength > 0) || !std::isfinite(faceLength)) return; // degenerate: no constant normal
+  int positive = 0, negative = 0, without = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double b1 = k == 1 ? 1 : 0, b2 = k == 2 ? 1 : 0;
+    const TriangleNormals at =
+        triangleNormals(entity, c, xf, 1 - b1 - b2, b1, b2, 0, Vec3(0, 0, 1));
+    if (!at.vertexNormals) ++without;
+    if (!(at.nwLen2 > 0)) continue;
+    const double cosine = dot(at.nw, face) / (std::sqrt(at.nwLen2) * faceLength);
+    positive += cosine > 1e-6;
+    negative += cosine < -1e-6;
+  }
+  constantNormal_ = without == 3 || positive == 3 || negative == 3;
+  if (constantNormal_)
+    ng_ = triangleNormals(entity, c, xf, 1.0 / 3, 1.0 / 3, 1.0 / 3, 0, Vec3(0, 0, 1)).ng;
+}
+
+void FixedTriangle::surfacePoint(double b1, double b2, Vec3 &p, Vec3 &ng) const {
+  if (!constantNormal_) {
+    triangleSurfacePoint(*entity_, triangle_, b1, b2, 0, p, ng);
+    return;
+  }
+  clampBarycentrics(b1, b2);
+  const double b0 = 1 - b1 - b2;
+  const Vec3 pObject = corner_[0] * b0 + corner_[1] * b1 + corner_[2] * b2;
+  const Transform &xf = entity_->worldFromObject;
+  p = xf.isIdentity() ? pObject : affinePoint(xf.matrix(), pObject);
+  ng = ng_;
 }
 
 } // namespace lray

@@ -19,8 +19,7 @@ inline uint32_t reverseBits(uint32_t x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
+  return __builtin_bswap32(x); // each byte is reversed: reverse their order
 }
 
 /// A hash in which each bit depends only on the bits below it: applied to
@@ -46,16 +45,17 @@ inline uint32_t nestedScramble(uint32_t x, uint32_t seed) {
 /// scrambled, so about half of their 32 bits are set at random: a loop
 /// over the bits mispredicts a branch per bit (it was a third of a simple
 /// scene's render, bench/throughput). Instead, each byte of the index looks
-/// up the xor of its eight direction numbers.
+/// up the xor of its eight direction numbers. The table holds them bit-
+/// reversed (reversal commutes with xor), as the nested scramble wants them.
 struct SobolSecondTable {
   uint32_t byByte[4][256];
 };
 
 constexpr SobolSecondTable makeSobolSecondTable() {
   SobolSecondTable table{};
-  uint32_t v[32] = {};
-  v[0] = 1u << 31;
-  for (int j = 1; j < 32; ++j) v[j] = v[j - 1] ^ (v[j - 1] >> 1);
+  uint32_t v[32] = {}; // reversed: v_0 = 1, v_i = v_{i-1} ^ (v_{i-1} << 1)
+  v[0] = 1;
+  for (int j = 1; j < 32; ++j) v[j] = v[j - 1] ^ (v[j - 1] << 1);
   for (int k = 0; k < 4; ++k)
     for (uint32_t b = 0; b < 256; ++b) {
       uint32_t x = 0;
@@ -68,11 +68,14 @@ constexpr SobolSecondTable makeSobolSecondTable() {
 
 inline constexpr SobolSecondTable kSobolSecond = makeSobolSecondTable();
 
-inline uint32_t sobolSecond(uint32_t index) {
+/// reverseBits(sobolSecond(index)).
+inline uint32_t sobolSecondReversed(uint32_t index) {
   const auto &t = kSobolSecond.byByte;
   return t[0][index & 255] ^ t[1][(index >> 8) & 255] ^ t[2][(index >> 16) & 255] ^
          t[3][index >> 24];
 }
+
+inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReversed(index)); }
 
 } // namespace owen_detail
 
@@ -91,7 +94,7 @@ inline void owenSobol2D(uint32_t index, uint64_t seed, double &x, double &y) {
   const uint32_t i = nestedScramble(index, shuffle);
   // nestedScramble(reverseBits(i), sx), with its two reversals cancelled.
   x = reverseBits(laineKarras(i, sx)) * 0x1.0p-32;
-  y = nestedScramble(sobolSecond(i), sy) * 0x1.0p-32;
+  y = reverseBits(laineKarras(sobolSecondReversed(i), sy)) * 0x1.0p-32; // nestedScramble
 }
 
 /// Sample `index` of a one-dimensional stratified sequence in [0, 1) whose

@@ -143,6 +143,10 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
           const double area = 0.5 * length(cross(b - a, c - a));
           if (!(area > 0)) continue; // a degenerate triangle: nothing to sample
           entries_.push_back({i, t, Kind::Triangle, false, 0, area, e.moves()});
+          if (!e.moves()) {
+            entries_.back().fixedTriangle = static_cast<int32_t>(fixedTriangles_.size());
+            fixedTriangles_.emplace_back(e, t);
+          }
           power.push_back(mean(*emission) * area);
         }
       }
@@ -154,6 +158,7 @@ Emitters::Emitters(const Scene &scene) : scene_(scene), firstEntry_(scene.entiti
     total += p;
   if (!(total > 0) || !std::isfinite(total)) {
     entries_.clear();
+    fixedTriangles_.clear();
     std::fill(firstEntry_.begin(), firstEntry_.end(), -1);
     return;
   }
@@ -196,13 +201,10 @@ Emitters::Sample Emitters::sample(const Vec3 &ref, float time, Sampler &sampler)
   if (entry.kind == Kind::Triangle) {
     // Uniform in the triangle: the square-root map of two numbers.
     const double r = std::sqrt(u);
-    const double b1 = r * (1 - v), b2 = r * v;
-    Hit hit;
-    Ray probe{Vec3(), Vec3(0, 0, 1), 0, 1};
-    probe.time = time; // where a moving mesh's corners are then
-    fillTriangleHit(e, entry.entity, entry.part, 0, b1, b2, probe, Vec3(), hit);
-    s.p = hit.p;
-    s.n = hit.ng;
+    if (entry.fixedTriangle >= 0)
+      fixedTriangles_[entry.fixedTriangle].surfacePoint(r * (1 - v), r * v, s.p, s.n);
+    else
+      triangleSurfacePoint(e, entry.part, r * (1 - v), r * v, time, s.p, s.n);
     s.pdfArea = entry.probability / triangleArea(entry, time);
     return s;
   }

@@ -11,6 +11,7 @@
 // sampled where it is at the time of the path's camera sample (Hit::time).
 #pragma once
 
+#include "geometry/shape.h"
 #include "math/color.h"
 #include "math/hit.h"
 #include "math/random.h"
@@ -60,6 +61,8 @@ private:
     /// A Sphere placed without shear or uneven scale (at every motion step
     /// if it moves, and then in between): a world sphere.
     bool round = false;
+    /// Triangle: its index in fixedTriangles_ when it does not move, else -1.
+    int32_t fixedTriangle = -1;
   };
   /// A round sphere entry's world centre and radius at a time.
   struct Ball {
@@ -102,6 +105,7 @@ private:
 
   const Scene &scene_;
   std::vector<Entry> entries_;
+  std::vector<FixedTriangle> fixedTriangles_;
   std::vector<double> cumulative_;  ///< of the entries' probabilities
   std::vector<int64_t> firstEntry_; ///< per entity: its first entry, or -1
 };

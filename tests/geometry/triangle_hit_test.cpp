@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
+#include <cmath>
 #include <memory>
 #include <random>
 #include <vector>
@@ -225,6 +227,45 @@ TEST(MeshData, VertexNormalBaseOnlyWhenCornersCarryNothingElse) {
   m->triangles[0].uv[0] = 0; // any uv index needs the MeshTriangle
   m->updateVertexNormalBase();
   EXPECT_EQ(m->vertexNormalBase, -1);
+}
+
+TEST(TriangleSurfacePoint, IsTheHitThereAndFixedTrianglesGiveItBitForBit) {
+  // Points drawn on emitting triangles: the point and normal a hit at the
+  // same barycentrics has, and the same bits from a FixedTriangle's
+  // precomputed corners and normal. Vertex normals on the face's side, on
+  // the other side (ng follows them), on both (the normal is worked out
+  // per point), and none; placed by a shear and a mirror.
+  const Transform xf = Transform::translate({1, -2, 3}) * Transform::scale(1, 2, -1) *
+                       Transform::rotate({1, 1, 0}, 30);
+  const std::vector<std::vector<Vec3f>> normalSets = {
+      {{0, 0, 1}, {0.3f, 0, 1}, {0, 0.2f, 1}}, {{0, 0, -1}, {0, 0.5f, -1}, {0.1f, 0, -1}},
+      {{0, 0, 1}, {1, 0, -0.2f}, {0, 0, -1}}, {}};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (size_t set = 0; set < normalSets.size(); ++set) {
+    SCOPED_TRACE(set);
+    auto m = oneTriangle();
+    m->normals = normalSets[set];
+    for (const Transform &placement : {Transform(), xf}) {
+      const Entity e = meshEntity(m, placement, true);
+      const FixedTriangle fixed(e, 0);
+      for (int i = 0; i < 200; ++i) {
+        const double u = unit(rng), r = std::sqrt(u), v = unit(rng);
+        const double b1 = r * (1 - v), b2 = r * v;
+        Vec3 p, ng, fp, fng;
+        triangleSurfacePoint(e, 0, b1, b2, 0, p, ng);
+        fixed.surfacePoint(b1, b2, fp, fng);
+        using Bits = std::array<uint64_t, 3>;
+        ASSERT_EQ(std::bit_cast<Bits>(fp), std::bit_cast<Bits>(p));
+        ASSERT_EQ(std::bit_cast<Bits>(fng), std::bit_cast<Bits>(ng));
+        // A hit there (a ray along the normal, met at t = 1) has them too.
+        Hit h;
+        fillTriangleHit(e, 0, 0, 1.0, b1, b2, {p - ng, ng, 0, 2}, kWorldOrigin, h);
+        EXPECT_NEAR(length(h.p - p), 0, 1e-12);
+        EXPECT_EQ(h.ng, ng);
+      }
+    }
+  }
 }
 
 TEST(MeshObjectBounds, CoversThePositions) {

@@ -1,13 +1,16 @@
-// bench/throughput: LRay's render time against the time Embree alone needs
-// for the same rays (issue 34's "traversal share"). One frame of a scene is
-// rendered with the Whitted integrator on one thread (the `lray` settings
-// given), timed; then rendered again through RecordingAccelerator, and
-// every ray it traced is traced again through EmbreeAccelerator::rawSeconds
-// (single rays and 8-wide packets where LRay uses them), timed per kind.
+// bench/throughput: LRay's render time against the time its backend alone
+// needs for the same rays (issue 34's "traversal share"). One frame of a
+// scene is rendered with the Whitted integrator on one thread (the `lray`
+// settings given), timed; then rendered again through RecordingAccelerator,
+// and every ray it traced is traced again through the backend's rawSeconds
+// (Embree's calls, or the kd-tree's walks: single rays, and packets where
+// LRay uses them), timed per kind.
 //   build/bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] [--repeats R]
+//       [--backend embree|kdtree]
 // Prints one JSON line: render seconds (median of R), rays per kind, raw
-// Embree seconds per kind (medians of R) and the share raw / render.
+// backend seconds per kind (medians of R) and the share raw / render.
 #include "accel/embree/embree_accelerator.h"
+#include "accel/kdtree/kdtree_accelerator.h"
 #include "bindings/scene_script.h"
 #include "render/tile_renderer_impl.h"
 #include "shading/image_cache.h"
@@ -31,79 +34,93 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+struct Options {
+  std::string scenePath;
+  int width = 640, height = 360, samples = 3, frame = 0, repeats = 3;
+};
+
+/// Renders with `accel` R times, records one more render's rays, replays
+/// them through accel.rawSeconds and prints the JSON line.
+template <class Accel>
+void measure(const Accel &accel, const char *backend, const Scene &scene, const ImageCache &images,
+             const Options &o) {
+  FrameSettings settings;
+  settings.width = o.width;
+  settings.height = o.height;
+  settings.samples = o.samples;
+  settings.frameIndex = o.frame;
+  std::vector<double> renders;
+  for (int r = 0; r < o.repeats; ++r) {
+    Film film(o.width, o.height);
+    RayCounts counts;
+    const auto t0 = std::chrono::steady_clock::now();
+    renderTiles<Integrator<Accel>>(accel, scene, images, settings, film, counts, nullptr);
+    renders.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  RecordingAccelerator<Accel> recorder(accel);
+  {
+    Film film(o.width, o.height);
+    RayCounts counts;
+    renderTiles<Integrator<RecordingAccelerator<Accel>>>(recorder, scene, images, settings, film,
+                                                         counts, nullptr);
+  }
+  const RecordedRays rays = recorder.recorded();
+  auto raw = [&](const std::vector<Ray> &v, RawQuery q) {
+    std::vector<double> t;
+    for (int r = 0; r < o.repeats; ++r) t.push_back(accel.rawSeconds(v.data(), v.size(), q));
+    return median(t);
+  };
+  const double camera = raw(rays.camera, RawQuery::ClosestPackets),
+               secondary = raw(rays.secondary, RawQuery::Closest),
+               shadow = raw(rays.shadow, RawQuery::Occlusion),
+               shadowPackets = raw(rays.shadowPackets, RawQuery::OcclusionPackets);
+  const double render = median(renders), total = camera + secondary + shadow + shadowPackets;
+  std::printf("{\"scene\": \"%s\", \"backend\": \"%s\", \"width\": %d, \"height\": %d, "
+              "\"samples\": %d, \"render_s\": %.4f, \"rays\": {\"camera\": %zu, "
+              "\"secondary\": %zu, \"shadow\": %zu, \"shadow_packets\": %zu}, "
+              "\"raw_s\": {\"camera\": %.4f, \"secondary\": %.4f, \"shadow\": %.4f, "
+              "\"shadow_packets\": %.4f, \"total\": %.4f}, \"traversal_share\": %.3f}\n",
+              o.scenePath.c_str(), backend, o.width, o.height, o.samples, render,
+              rays.camera.size(), rays.secondary.size(), rays.shadow.size(),
+              rays.shadowPackets.size(), camera, secondary, shadow, shadowPackets, total,
+              total / render);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] "
-                         "[--repeats R]\n");
+                         "[--repeats R] [--backend embree|kdtree]\n");
     return 2;
   }
-  std::string scenePath = argv[1];
-  int width = 640, height = 360, samples = 3, frame = 0, repeats = 3;
+  Options o;
+  o.scenePath = argv[1];
+  std::string backend = "embree";
   for (int i = 2; i + 1 < argc; i += 2) {
     const int v = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "-w")) width = v;
-    else if (!std::strcmp(argv[i], "-H")) height = v;
-    else if (!std::strcmp(argv[i], "-s")) samples = v;
-    else if (!std::strcmp(argv[i], "--frame")) frame = v;
-    else if (!std::strcmp(argv[i], "--repeats")) repeats = std::max(1, v);
+    if (!std::strcmp(argv[i], "-w")) o.width = v;
+    else if (!std::strcmp(argv[i], "-H")) o.height = v;
+    else if (!std::strcmp(argv[i], "-s")) o.samples = v;
+    else if (!std::strcmp(argv[i], "--frame")) o.frame = v;
+    else if (!std::strcmp(argv[i], "--repeats")) o.repeats = std::max(1, v);
+    else if (!std::strcmp(argv[i], "--backend") &&
+             (!std::strcmp(argv[i + 1], "embree") || !std::strcmp(argv[i + 1], "kdtree")))
+      backend = argv[i + 1];
     else {
-      std::fprintf(stderr, "bench_throughput: unknown option %s\n", argv[i]);
+      std::fprintf(stderr, "bench_throughput: bad option %s %s\n", argv[i], argv[i + 1]);
       return 2;
     }
   }
   tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
   try {
-    SceneScript script(scenePath);
+    SceneScript script(o.scenePath);
     SceneInfo info = script.info();
-    Scene scene = script.buildFrame(info.clockForFrame(frame));
+    Scene scene = script.buildFrame(info.clockForFrame(o.frame));
     ImageCache images(false);
     images.load(scene);
-    EmbreeAccelerator embree(scene);
-    FrameSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.samples = samples;
-    settings.frameIndex = frame;
-
-    std::vector<double> renders;
-    for (int r = 0; r < repeats; ++r) {
-      Film film(width, height);
-      RayCounts counts;
-      const auto t0 = std::chrono::steady_clock::now();
-      renderTiles<Integrator<EmbreeAccelerator>>(embree, scene, images, settings, film, counts,
-                                                 nullptr);
-      renders.push_back(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    RecordingAccelerator<EmbreeAccelerator> recorder(embree);
-    {
-      Film film(width, height);
-      RayCounts counts;
-      renderTiles<Integrator<RecordingAccelerator<EmbreeAccelerator>>>(
-          recorder, scene, images, settings, film, counts, nullptr);
-    }
-    const RecordedRays rays = recorder.recorded();
-    using Q = EmbreeAccelerator::RawQuery;
-    auto raw = [&](const std::vector<Ray> &v, Q q) {
-      std::vector<double> t;
-      for (int r = 0; r < repeats; ++r) t.push_back(embree.rawSeconds(v.data(), v.size(), q));
-      return median(t);
-    };
-    const double camera = raw(rays.camera, Q::ClosestPackets),
-                 secondary = raw(rays.secondary, Q::Closest),
-                 shadow = raw(rays.shadow, Q::Occlusion),
-                 shadowPackets = raw(rays.shadowPackets, Q::OcclusionPackets);
-    const double render = median(renders), total = camera + secondary + shadow + shadowPackets;
-    std::printf("{\"scene\": \"%s\", \"width\": %d, \"height\": %d, \"samples\": %d, "
-                "\"render_s\": %.4f, \"rays\": {\"camera\": %zu, \"secondary\": %zu, "
-                "\"shadow\": %zu, \"shadow_packets\": %zu}, \"raw_embree_s\": {\"camera\": %.4f, "
-                "\"secondary\": %.4f, \"shadow\": %.4f, \"shadow_packets\": %.4f, \"total\": "
-                "%.4f}, \"traversal_share\": %.3f}\n",
-                scenePath.c_str(), width, height, samples, render, rays.camera.size(),
-                rays.secondary.size(), rays.shadow.size(), rays.shadowPackets.size(), camera,
-                secondary, shadow, shadowPackets, total, total / render);
+    if (backend == "kdtree") measure(KdTreeAccelerator(scene), "kdtree", scene, images, o);
+    else measure(EmbreeAccelerator(scene), "embree", scene, images, o);
   } catch (const std::exception &e) {
     std::fprintf(stderr, "bench_throughput: %s\n", e.what());
     return 1;

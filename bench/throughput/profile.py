@@ -17,10 +17,11 @@ and sorts the samples into kinds by the function (or library) they fell in:
     libm          the C maths library (called from all of the above)
     other         the rest (threads, kernel, allocation, output)
 
-With Embree it also runs build/bench_throughput on the same frame: the
+It also runs build/bench_throughput on the same frame and backend: the
 render timed on one thread, its rays recorded and traced again through
-Embree alone ("Embree alone": that time over the render's, issue 34's
-traversal share; the analytic shapes' callbacks are part of it).
+the backend alone ("backend alone": Embree's calls, or the kd-tree's
+walks, over the render's time: issue 34's traversal share; the analytic
+shapes' tests are part of it).
 A table (markdown) goes to stdout and --out/profile.md. See README.md in
 this folder, and bench/README.md for the current figures.
 
@@ -127,7 +128,7 @@ def main():
             if f.endswith(".lua") and f != "twins.lua":
                 scenes.append((f[:-4], os.path.join(ROOT, "scenes", f), ["--frames", "0"]))
     args = ["-w", str(a.width), "-H", str(a.height), "-s", str(a.samples), "-t", str(a.threads)]
-    head = "| scene | backend | render s | Embree alone | " + " | ".join(KINDS) + " |"
+    head = "| scene | backend | render s | backend alone | " + " | ".join(KINDS) + " |"
     rows = [head, "|" + "---|" * (len(KINDS) + 4)]
     print(head, flush=True)
     for name, path, extra in scenes:
@@ -142,15 +143,15 @@ def main():
                      int(before * 1000) + 5)
             shares = classify(perf)
             alone = "-"
-            if backend == "embree" and os.path.exists(a.bench):
+            if os.path.exists(a.bench):
                 frame = extra[1] if extra[:1] == ["--frames"] else "0"
                 out_json = subprocess.run(
                     [a.bench, path, "-w", str(a.width), "-H", str(a.height), "-s",
-                     str(a.samples), "--frame", frame, "--repeats", "3"],
+                     str(a.samples), "--frame", frame, "--repeats", "3", "--backend", backend],
                     check=True, capture_output=True, text=True).stdout
                 replay = json.loads(out_json)
                 alone = (f"{replay['traversal_share']:.2f} "
-                         f"({replay['raw_embree_s']['total']:.3f} / {replay['render_s']:.3f} s)")
+                         f"({replay['raw_s']['total']:.3f} / {replay['render_s']:.3f} s)")
             row = f"| {name} | {backend} | {t['render']:.3f} | {alone} | " + " | ".join(
                 f"{shares[k]:.0f} %" for k in KINDS) + " |"
             rows.append(row)

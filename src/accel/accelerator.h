@@ -21,6 +21,11 @@ struct AcceleratorStats {
   size_t instances = 0;
 };
 
+/// A backend's queries traced alone, for bench/throughput's replay
+/// (rawSeconds on each backend): closest or any hit, single rays or the
+/// packets the coherent calls use.
+enum class RawQuery { Closest, ClosestPackets, Occlusion, OcclusionPackets };
+
 /// Closest-hit and any-hit queries over one frame's scene. Implementations
 /// are `final`, so the integrator (a template over the concrete type,
 /// instantiated in render/backends.cpp) calls them without virtual

@@ -45,7 +45,6 @@ public:
   /// (seconds, this thread): the same calls as above (single rays, or
   /// 8-wide coherent packets), with the context the analytic shapes'
   /// callbacks need, but no mesh hit filled, no plane tested, nothing kept.
-  enum class RawQuery { Closest, ClosestPackets, Occlusion, OcclusionPackets };
   double rawSeconds(const Ray *rays, size_t count, RawQuery query) const;
 
   /// Per analytic entity: what its Embree callbacks need.

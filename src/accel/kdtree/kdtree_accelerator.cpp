@@ -318,13 +318,14 @@ uint32_t KdTreeAccelerator::intersectMeshPacket(const Instance &inst, const Ray 
       });
 }
 
-template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit &hit) const {
+template <KdRays Rays>
+[[gnu::always_inline]] inline bool
+KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best,
+                                  bool &bestIsTriangle, double &tMax) const {
   // The nearest triangle is only recorded during traversal (as its leaf
   // reference); its Hit is filled once at the end. Analytic shapes write
   // theirs into `hit` as they are found (a nearer find overwrites it).
-  TriangleCandidate best;
-  bool bestIsTriangle = false;
-  double tMax = ray.tMax;
+  bestIsTriangle = false;
   auto testInstance = [&](uint32_t prim, double &tBest) {
     const Instance &inst = instances_[prim];
     const Entity &entity = scene_.entities[inst.entity];
@@ -349,11 +350,18 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
   // One entity: the top-level tree would only clip the ray to its bounds.
   // Several: an entity met again in a later top-level leaf is skipped.
   Mailbox mailbox;
-  bool found = instances_.size() == 1
-                   ? testInstance(0, tMax)
-                   : top_.traverse<false, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
-                       return mailbox.firstVisit(prim) && testInstance(prim, tBest);
-                     });
+  return instances_.size() == 1
+             ? testInstance(0, tMax)
+             : top_.traverse<false, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
+                 return mailbox.firstVisit(prim) && testInstance(prim, tBest);
+               });
+}
+
+template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit &hit) const {
+  TriangleCandidate best;
+  bool bestIsTriangle = false;
+  double tMax = ray.tMax;
+  const bool found = nearestBounded<Rays>(ray, hit, best, bestIsTriangle, tMax);
   if (found && bestIsTriangle) {
     uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.mesh.ref];
     fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax, best.mesh.b1,
@@ -362,8 +370,8 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
   return unbounded_.empty() ? found : unbounded_.intersect(ray, hit, found);
 }
 
-template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const {
-  if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
+template <KdRays Rays>
+[[gnu::always_inline]] inline bool KdTreeAccelerator::occludedBounded(const Ray &ray) const {
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
     if (moving_.misses(inst.entity, ray, ray.tMax)) return false;
@@ -379,6 +387,11 @@ template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const
              : top_.traverse<true, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
                  return mailbox.firstVisit(prim) && testInstance(prim, tBest);
                });
+}
+
+template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const {
+  if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
+  return occludedBounded<Rays>(ray);
 }
 
 bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
@@ -510,6 +523,45 @@ void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
   if (!unbounded_.empty())
     for (size_t i = 0; i < count; ++i)
       if (!occluded[i]) occluded[i] = unbounded_.occluded(rays[i]);
+}
+
+double KdTreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery query) const {
+  const bool packets = usePackets_ && (query == RawQuery::ClosestPackets ||
+                                       query == RawQuery::OcclusionPackets);
+  const bool closest = query == RawQuery::Closest || query == RawQuery::ClosestPackets;
+  std::vector<Hit> scratch(kRays);
+  size_t found = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t first = 0; first < count; first += packets ? kRays : 1) {
+    if (!packets) {
+      if (closest) {
+        TriangleCandidate best;
+        bool bestIsTriangle = false;
+        double tMax = rays[first].tMax;
+        found += query == RawQuery::Closest
+                     ? nearestBounded<KdRays::Incoherent>(rays[first], scratch[0], best,
+                                                          bestIsTriangle, tMax)
+                     : nearestBounded<KdRays::Coherent>(rays[first], scratch[0], best,
+                                                        bestIsTriangle, tMax);
+      } else {
+        found += occludedBounded<KdRays::Incoherent>(rays[first]);
+      }
+      continue;
+    }
+    const int n = static_cast<int>(std::min<size_t>(kRays, count - first));
+    double tMax[kRays] = {};
+    for (int i = 0; i < n; ++i) tMax[i] = rays[first + i].tMax;
+    PacketFinds finds;
+    finds.shapeHits = scratch.data();
+    found += std::popcount(closest ? packetQuery<false>(rays + first, (1u << n) - 1, tMax, &finds)
+                                   : packetQuery<true>(rays + first, (1u << n) - 1, tMax, nullptr));
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // What the walks found, stored where the compiler must store it, so that
+  // walks whose results are otherwise unused are not optimised away.
+  [[maybe_unused]] volatile size_t foundSink = found;
+  return seconds;
 }
 
 } // namespace lray

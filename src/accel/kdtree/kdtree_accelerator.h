@@ -49,6 +49,12 @@ public:
   /// Bottom-level tree i, over one distinct mesh's triangles in object space.
   const KdTree &meshTree(size_t i) const { return meshTrees_[i].tree; }
 
+  /// For bench/throughput: how long the trees alone take for these queries
+  /// (seconds, this thread), as EmbreeAccelerator::rawSeconds: the same
+  /// walks as above (single rays, or packets where usesPackets()) with the
+  /// analytic shapes' tests, but no mesh hit filled, no plane tested.
+  double rawSeconds(const Ray *rays, size_t count, RawQuery query) const;
+
 private:
   static constexpr uint32_t kAnalytic = ~0u;
 
@@ -130,6 +136,13 @@ private:
   /// intersect() and occluded() by either walk of the trees.
   template <KdRays Rays> bool intersectRay(const Ray &ray, Hit &hit) const;
   template <KdRays Rays> bool occludedRay(const Ray &ray) const;
+  /// Their walks over the bounded entities (the trees; no planes): the
+  /// nearest find is an analytic shape's Hit in `hit`, or a triangle in
+  /// `best` (then bestIsTriangle), its t in tMax; its Hit is not filled.
+  template <KdRays Rays>
+  bool nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best, bool &bestIsTriangle,
+                      double &tMax) const;
+  template <KdRays Rays> bool occludedBounded(const Ray &ray) const;
 
   const Scene &scene_;
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so

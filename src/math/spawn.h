@@ -4,6 +4,7 @@
 #pragma once
 
 #include "math/hit.h"
+#include "math/next_double.h"
 #include "math/ray.h"
 
 #include <cmath>
@@ -11,19 +12,47 @@
 
 namespace lray {
 
+namespace spawn_detail {
+
+/// The hit point's push off its surface: along ng, by the bound on the
+/// point's error measured across ng's components.
+inline Vec3 errorOffset(const Hit &hit) {
+  double d = hit.pError * (std::fabs(hit.ng.x) + std::fabs(hit.ng.y) + std::fabs(hit.ng.z));
+  return hit.ng * d;
+}
+
+/// p + offset, each coordinate rounded away from p so that the rounding of
+/// the sum cannot undo the offset.
+inline Vec3 pushedOff(const Vec3 &from, const Vec3 &offset) {
+  Vec3 p = from + offset;
+  for (int i = 0; i < 3; ++i) {
+    if (offset[i] > 0) p[i] = nextUp(p[i]);
+    else if (offset[i] < 0) p[i] = nextDown(p[i]);
+  }
+  return p;
+}
+
+} // namespace spawn_detail
+
 /// The hit point moved to the side of the surface that `dir` points into,
 /// far enough that the surface cannot be re-hit by a ray leaving along `dir`.
 inline Vec3 offsetRayOrigin(const Hit &hit, const Vec3 &dir) {
-  double d = hit.pError * (std::fabs(hit.ng.x) + std::fabs(hit.ng.y) + std::fabs(hit.ng.z));
-  Vec3 offset = hit.ng * d;
+  Vec3 offset = spawn_detail::errorOffset(hit);
   if (dot(dir, hit.ng) < 0) offset = -offset;
-  Vec3 p = hit.p + offset;
-  // Round away from the surface so the rounding of the sum cannot undo the offset.
-  for (int i = 0; i < 3; ++i) {
-    if (offset[i] > 0) p[i] = std::nextafter(p[i], std::numeric_limits<double>::infinity());
-    else if (offset[i] < 0) p[i] = std::nextafter(p[i], -std::numeric_limits<double>::infinity());
-  }
-  return p;
+  return spawn_detail::pushedOff(hit.p, offset);
+}
+
+/// Both of offsetRayOrigin's answers for a hit: for directions on the side
+/// ng points to (front) and for the others (back). Many shadow rays leave
+/// one point (an area light's cells): they pick one instead of each
+/// computing it again.
+struct SpawnOrigins {
+  Vec3 front, back;
+};
+
+inline SpawnOrigins spawnOrigins(const Hit &hit) {
+  const Vec3 offset = spawn_detail::errorOffset(hit);
+  return {spawn_detail::pushedOff(hit.p, offset), spawn_detail::pushedOff(hit.p, -offset)};
 }
 
 /// A secondary ray leaving the surface in direction `dir`.
@@ -34,6 +63,12 @@ inline Ray spawnRay(const Hit &hit, const Vec3 &dir) {
 /// A shadow ray from the surface that ends at `target` (t in (0, 1)).
 inline Ray spawnRayTo(const Hit &hit, const Vec3 &target) {
   Vec3 o = offsetRayOrigin(hit, target - hit.p);
+  return {o, target - o, 0, 1, hit.time};
+}
+
+/// spawnRayTo(hit, target) from the hit's origins (spawnOrigins(hit)).
+inline Ray spawnRayTo(const SpawnOrigins &origins, const Hit &hit, const Vec3 &target) {
+  const Vec3 o = dot(target - hit.p, hit.ng) < 0 ? origins.back : origins.front;
   return {o, target - o, 0, 1, hit.time};
 }
 

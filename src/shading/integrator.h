@@ -9,6 +9,7 @@
 #pragma once
 
 #include "math/hit.h"
+#include "math/spawn.h"
 #include "math/color.h"
 #include "math/random.h"
 #include "math/ray.h"
@@ -135,6 +136,7 @@ private:
     Pending *pending;
     Ray *shadowRays;
     uint8_t *blocked;
+    SpawnOrigins *origins; ///< per point: where its shadow rays start
   };
   struct TileScratch;
 

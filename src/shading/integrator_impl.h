@@ -84,6 +84,10 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
                                        const uint8_t *found, Sampler *samplers, size_t count,
                                        bool coherent, const LightScratch &scratch, Color *sums,
                                        RayCounts &counts) const {
+  // Where each lit point's shadow rays start (of two places, by the side
+  // of its surface they leave), for all the lights' samples.
+  for (size_t i = 0; i < count; ++i)
+    if ((!found || found[i]) && surfaces[i].m->lit) scratch.origins[i] = spawnOrigins(hits[i]);
   for (const LightSampler &light : lights_) {
     std::visit(
         [&](const auto &source) {
@@ -125,7 +129,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               if constexpr (!kUniform) p.dir.color = sample.color;
               ++shadow;
               p.ray = static_cast<uint32_t>(i);
-              shadowRays[n] = spawnRayTo(hit, sample.target);
+              shadowRays[n] = spawnRayTo(scratch.origins[i], hit, sample.target);
               ++n;
             }
             if (n == 0) continue;
@@ -188,8 +192,9 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &
   Ray shadowRay;
   uint8_t blocked;
   Color sum;
-  addDirectLight(&hit, &s, nullptr, &sampler, 1, false, {&pending, &shadowRay, &blocked}, &sum,
-                 counts);
+  SpawnOrigins origins;
+  addDirectLight(&hit, &s, nullptr, &sampler, 1, false,
+                 {&pending, &shadowRay, &blocked, &origins}, &sum, counts);
   return sum;
 }
 
@@ -215,6 +220,7 @@ template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<typename LightScratch::Pending, kMaxTileRays> pending;
   std::array<Ray, kMaxTileRays> shadowRays;
   std::array<uint8_t, kMaxTileRays> blocked;
+  std::array<SpawnOrigins, kMaxTileRays> origins;
 };
 
 template <class Accel>
@@ -234,7 +240,8 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
     lightSum[i] = Color();
   }
   addDirectLight(hits, surface.data(), found, samplers, count, true,
-                 {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data()},
+                 {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
+                  scratch.origins.data()},
                  lightSum.data(), counts);
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {

@@ -66,10 +66,17 @@ inline Ray spawnRayTo(const Hit &hit, const Vec3 &target) {
   return {o, target - o, 0, 1, hit.time};
 }
 
-/// spawnRayTo(hit, target) from the hit's origins (spawnOrigins(hit)).
-inline Ray spawnRayTo(const SpawnOrigins &origins, const Hit &hit, const Vec3 &target) {
-  const Vec3 o = dot(target - hit.p, hit.ng) < 0 ? origins.back : origins.front;
-  return {o, target - o, 0, 1, hit.time};
+/// ray = spawnRayTo(hit, target), from the hit's origins (spawnOrigins(hit)).
+/// Written field by field into its place in a batch: a Ray built on the
+/// stack and copied there was read back in 16-byte pieces across its
+/// 8-byte stores, a store-forwarding stall on every shadow ray.
+inline void spawnRayTo(const SpawnOrigins &origins, const Hit &hit, const Vec3 &target, Ray &ray) {
+  const Vec3 &o = dot(target - hit.p, hit.ng) < 0 ? origins.back : origins.front;
+  ray.o = o;
+  ray.d = target - o;
+  ray.tMin = 0;
+  ray.tMax = 1;
+  ray.time = hit.time;
 }
 
 } // namespace lray

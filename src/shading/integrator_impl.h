@@ -129,7 +129,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               if constexpr (!kUniform) p.dir.color = sample.color;
               ++shadow;
               p.ray = static_cast<uint32_t>(i);
-              shadowRays[n] = spawnRayTo(scratch.origins[i], hit, sample.target);
+              spawnRayTo(scratch.origins[i], hit, sample.target, shadowRays[n]);
               ++n;
             }
             if (n == 0) continue;

@@ -2,11 +2,11 @@
 // drawn on an emitting mesh spread uniformly over its triangles, wherever
 // the triangles are, with the normal and density a hit there has.
 #include "shading/emitters.h"
+#include "shading/quad_mesh.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <memory>
 
 namespace lray {
 namespace {
@@ -21,18 +21,9 @@ Scene emittingSquare(double h, double z, const Transform &placement = Transform(
   Finish lamp;
   lamp.emission = {2, 2, 2};
   s.textures.push_back({lamp, 0});
-  auto mesh = std::make_shared<MeshData>();
   const float fh = static_cast<float>(h), fz = static_cast<float>(z);
-  mesh->positions = {{-fh, -fh, fz}, {fh, -fh, fz}, {fh, fh, fz}, {-fh, fh, fz}};
-  mesh->triangles = {MeshTriangle{{0, 2, 1}}, MeshTriangle{{0, 3, 2}}}; // normal -z
-  for (const MeshTriangle &t : mesh->triangles)
-    mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
-  Entity e;
-  e.shape = makeShape(ShapeKind::Mesh);
-  e.mesh = mesh;
-  e.worldFromObject = placement;
-  e.texture = 0;
-  s.entities.push_back(e);
+  testing::addQuad(s, {Vec3f{-fh, -fh, fz}, {-fh, fh, fz}, {fh, fh, fz}, {fh, -fh, fz}}, 0,
+                   placement); // facing -z
   return s;
 }
 

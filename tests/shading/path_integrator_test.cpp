@@ -8,6 +8,7 @@
 #include "geometry/csg_test_trees.h"
 #include "shading/brute_force_accelerator.h"
 #include "shading/image_cache.h"
+#include "shading/quad_mesh.h"
 #include "shading/rough_lobes.h"
 #include "math/onb.h"
 
@@ -618,18 +619,7 @@ TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {
 
 /// A mesh entity of two triangles over four corners in order, its face
 /// normal (p2 - p1) x (p3 - p1).
-void addQuad(Scene &scene, const std::array<Vec3f, 4> &corners, uint32_t texture) {
-  auto mesh = std::make_shared<MeshData>();
-  mesh->positions.assign(corners.begin(), corners.end());
-  mesh->triangles = {MeshTriangle{{0, 1, 2}}, MeshTriangle{{0, 2, 3}}};
-  for (const MeshTriangle &t : mesh->triangles)
-    mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
-  Entity e;
-  e.shape = makeShape(ShapeKind::Mesh);
-  e.mesh = mesh;
-  e.texture = texture;
-  scene.entities.push_back(e);
-}
+using testing::addQuad;
 
 TEST(PathIntegrator, AnEmittingTriangleDoesNotShadowItsOwnLight) {
   // A floor under an emitting square: the shadow rays to points on the

@@ -65,7 +65,8 @@ struct Corners {
   Vec3 p[3];
 };
 
-Corners cornersAt(const Entity &entity, uint32_t triangle, float time) {
+[[gnu::always_inline]] inline Corners cornersAt(const Entity &entity, uint32_t triangle,
+                                                float time) {
   const MeshData &mesh = *entity.mesh;
   Corners c;
   // A hit is usually a cache miss on these: read the 12-byte
@@ -113,8 +114,9 @@ struct TriangleNormals {
   bool vertexNormals = false; ///< whether the mesh gives this triangle's corners normals
 };
 
-TriangleNormals triangleNormals(const Entity &entity, const Corners &c, const Transform &xf,
-                                double b0, double b1, double b2, float time, const Vec3 &rayDir) {
+[[gnu::always_inline]] inline TriangleNormals
+triangleNormals(const Entity &entity, const Corners &c, const Transform &xf, double b0, double b1,
+                double b2, float time, const Vec3 &rayDir) {
   const MeshData &mesh = *entity.mesh;
   const bool identity = xf.isIdentity();
   // Face normal by the right-hand rule on the corner order (the scene

@@ -104,6 +104,15 @@ void clampBarycentrics(double &b1, double &b2) {
   }
 }
 
+/// The world point at barycentrics (b1, b2), clamped onto the triangle, of
+/// object-space corners p placed by xf; b0 gets corner 0's weight.
+Vec3 placedPoint(const Vec3 (&p)[3], const Transform &xf, double &b1, double &b2, double &b0) {
+  clampBarycentrics(b1, b2);
+  b0 = 1 - b1 - b2;
+  const Vec3 pObject = p[0] * b0 + p[1] * b1 + p[2] * b2;
+  return xf.isIdentity() ? pObject : affinePoint(xf.matrix(), pObject);
+}
+
 /// The unit geometric normal `ng` at barycentrics (b0, b1, b2) in world
 /// space, and the interpolated vertex normal `nw` (world, not normalised;
 /// nwLen2 = 0 when the mesh has none): ng is on the side the vertex normals
@@ -112,6 +121,7 @@ struct TriangleNormals {
   Vec3 ng, nw;
   double nwLen2 = 0;
   bool vertexNormals = false; ///< whether the mesh gives this triangle's corners normals
+  Vec3 face; ///< the face normal in world space before it is flipped or normalised
 };
 
 [[gnu::always_inline]] inline TriangleNormals
@@ -125,6 +135,7 @@ triangleNormals(const Entity &entity, const Corners &c, const Transform &xf, dou
   TriangleNormals out;
   Vec3 ng = cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
   if (!identity) ng = affineNormal(inv, ng);
+  out.face = ng;
 
   // Vertex normals: by normal index, else per vertex index, else none.
   int64_t normalAt[3] = {-1, -1, -1};
@@ -263,12 +274,10 @@ void fillTriangleHit(const Entity &entity, uint32_t entityIndex, uint32_t triang
 
 void triangleSurfacePoint(const Entity &entity, uint32_t triangle, double b1, double b2,
                           float time, Vec3 &p, Vec3 &ng) {
-  const Transform placement = entity.motion ? entity.motion->at(time) : entity.worldFromObject;
+  const Transform placement = entity.placementAt(time);
   const Corners c = cornersAt(entity, triangle, time);
-  clampBarycentrics(b1, b2);
-  const double b0 = 1 - b1 - b2;
-  const Vec3 pObject = c.p[0] * b0 + c.p[1] * b1 + c.p[2] * b2;
-  p = placement.isIdentity() ? pObject : affinePoint(placement.matrix(), pObject);
+  double b0;
+  p = placedPoint(c.p, placement, b1, b2, b0);
   ng = triangleNormals(entity, c, placement, b0, b1, b2, time, Vec3(0, 0, 1)).ng;
 }
 
@@ -283,18 +292,16 @@ FixedTriangle::FixedTriangle(const Entity &entity, uint32_t triangle)
   // same sign at all three corners, well clear of 0, is that sign
   // everywhere on the triangle.
   const Transform &xf = entity.worldFromObject;
-  Vec3 face = cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
-  if (!xf.isIdentity()) face = affineNormal(xf.inverseMatrix(), face);
-  const double faceLength = length(face);
-  if (!(faceLength > 0) || !std::isfinite(faceLength)) return; // degenerate: no constant normal
   int positive = 0, negative = 0, without = 0;
   for (int k = 0; k < 3; ++k) {
     const double b1 = k == 1 ? 1 : 0, b2 = k == 2 ? 1 : 0;
     const TriangleNormals at =
         triangleNormals(entity, c, xf, 1 - b1 - b2, b1, b2, 0, Vec3(0, 0, 1));
+    const double faceLength = length(at.face);
+    if (!(faceLength > 0) || !std::isfinite(faceLength)) return; // degenerate: none constant
     if (!at.vertexNormals) ++without;
     if (!(at.nwLen2 > 0)) continue;
-    const double cosine = dot(at.nw, face) / (std::sqrt(at.nwLen2) * faceLength);
+    const double cosine = dot(at.nw, at.face) / (std::sqrt(at.nwLen2) * faceLength);
     positive += cosine > 1e-6;
     negative += cosine < -1e-6;
   }
@@ -308,11 +315,8 @@ void FixedTriangle::surfacePoint(double b1, double b2, Vec3 &p, Vec3 &ng) const 
     triangleSurfacePoint(*entity_, triangle_, b1, b2, 0, p, ng);
     return;
   }
-  clampBarycentrics(b1, b2);
-  const double b0 = 1 - b1 - b2;
-  const Vec3 pObject = corner_[0] * b0 + corner_[1] * b1 + corner_[2] * b2;
-  const Transform &xf = entity_->worldFromObject;
-  p = xf.isIdentity() ? pObject : affinePoint(xf.matrix(), pObject);
+  double b0;
+  p = placedPoint(corner_, entity_->worldFromObject, b1, b2, b0);
   ng = ng_;
 }
 

@@ -21,8 +21,8 @@ struct SpecularLobes {
   double kr = 0;    ///< reflection weight (times F with fresnel)
   double kt = 0;    ///< refraction weight (times 1 - F with fresnel)
   Vec3 mirror;      ///< the reflected direction
-  Vec3 refracted;   ///< the refracted direction, unless totalInternal (or kt is 0)
-  bool totalInternal = false; ///< (left false where kt is 0)
+  Vec3 refracted;   ///< the refracted direction, unless totalInternal (none unless refracting)
+  bool totalInternal = false; ///< (left false unless the finish refracts here)
   bool rough = false;
   double alpha = 0; ///< GGX alpha of a rough finish
 
@@ -55,7 +55,8 @@ inline SpecularLobes specularLobes(const Vec3 &dir, const Vec3 &n, const Finish 
     l.alpha = std::max(ggx::kMinAlpha, f.roughness);
     l.facet = ggx::sampleVisibleNormal(n, -dir, l.alpha, u1, u2);
   }
-  const bool refracting = l.kt != 0; // else no refracted direction is asked for
+  // Refracting (kt before Fresnel): else no refracted direction is asked for.
+  const bool refracting = l.kt != 0;
   const double dm = dot(dir, l.facet);
   const double cosI = std::clamp(-dm, 0.0, 1.0);
   if (f.fresnel) { // F is 1 under total internal reflection: nothing is refracted

@@ -54,7 +54,8 @@ TEST(Emitters, TrianglePointsSpreadUniformlyWhereverTheTriangleIs) {
     }
     // Uniform over [-h, h]: mean 0 (standard error h / sqrt(3 n)), mean
     // square h^2 / 3 (standard error h^2 * 0.30 / sqrt(n)).
-    const double meanError = h / std::sqrt(3.0 * kCount), squareError = h * h * 0.3 / std::sqrt(kCount);
+    const double meanError = h / std::sqrt(3.0 * kCount);
+    const double squareError = h * h * 0.3 / std::sqrt(kCount);
     EXPECT_NEAR(sx / kCount, 0, 4 * meanError);
     EXPECT_NEAR(sy / kCount, 0, 4 * meanError);
     EXPECT_NEAR(sxx / kCount, h * h / 3, 4 * squareError);

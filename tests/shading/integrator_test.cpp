@@ -7,13 +7,13 @@
 #include "shading/fresnel.h"
 
 #include "shading/brute_force_accelerator.h"
+#include "shading/quad_mesh.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <memory>
 #include <numbers>
 
 namespace lray {
@@ -62,16 +62,7 @@ struct SceneBuilder {
   }
   /// A square from -1 to 1 in x and z at y = 0, normal +y, placed by t.
   void quad(const Transform &t, uint32_t texture) {
-    auto mesh = std::make_shared<MeshData>();
-    mesh->positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
-    MeshTriangle a{{0, 2, 1}}, b{{0, 3, 2}};
-    mesh->triangles = {a, b};
-    Entity e;
-    e.shape = makeShape(ShapeKind::Mesh);
-    e.worldFromObject = t;
-    e.texture = texture;
-    e.mesh = mesh;
-    scene.entities.push_back(e);
+    testing::addQuad(scene, {Vec3f{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, texture, t);
   }
   void light(const Transform &t, const Color &c = {1, 1, 1}, int rows = 1, int cols = 1,
              bool area = false) {

@@ -244,17 +244,8 @@ const Vec3 kSquareViewer(0.5, 1, 0);
 /// the camera from kSquareViewer, renders the direct light on it
 /// (max_depth 1) and returns its mean value and that mean's standard error.
 std::pair<double, double> litSquare(Scene &s, const Finish &finish, int samples = 16) {
-  Entity square;
-  square.shape = makeShape(ShapeKind::Mesh);
-  auto mesh = std::make_shared<MeshData>();
-  mesh->positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
-  mesh->triangles = {MeshTriangle{{0, 2, 1}}, MeshTriangle{{0, 3, 2}}}; // normal +y
-  for (const MeshTriangle &t : mesh->triangles)
-    mesh->triangleIndices.insert(mesh->triangleIndices.end(), t.v, t.v + 3);
-  square.mesh = mesh;
-  square.worldFromObject = Transform::scale(0.01, 1, 0.01);
-  square.texture = addTexture(s, finish);
-  s.entities.push_back(square);
+  testing::addQuad(s, {Vec3f{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, addTexture(s, finish),
+                   Transform::scale(0.01, 1, 0.01)); // normal +y
   s.camera.fov = 0.5; // the square fills the view
   s.camera.aspect = 1;
   s.camera.worldFromCamera = Transform::lookAt(kSquareViewer, {0, 0, 0}, {0, 1, 0});
@@ -617,8 +608,6 @@ TEST(PathIntegrator, EveryBackendRendersTheSameFrame) {
     }
 }
 
-/// A mesh entity of two triangles over four corners in order, its face
-/// normal (p2 - p1) x (p3 - p1).
 using testing::addQuad;
 
 TEST(PathIntegrator, AnEmittingTriangleDoesNotShadowItsOwnLight) {

@@ -172,10 +172,20 @@ std::string describeUnexpectedError(const std::exception &e) {
   if (dynamic_cast<const std::bad_alloc *>(&e)) return "out of memory";
   if (dynamic_cast<const std::length_error *>(&e)) return "a size too large to allocate";
   if (dynamic_cast<const std::filesystem::filesystem_error *>(&e)) return e.what();
+  // A thread that could not start: under an address-space limit (ulimit
+  // -v) there is no room for its stack, or a limit on processes bites.
+  // std::thread says so by its error code, TBB's worker pool by its text.
+  const std::string threadRefused =
+      "the system refused to start a thread (not enough memory, or too many threads): ";
   // Threads, files and other resources the system refused.
-  if (const auto *system = dynamic_cast<const std::system_error *>(&e))
+  if (const auto *system = dynamic_cast<const std::system_error *>(&e)) {
+    if (system->code() == std::errc::resource_unavailable_try_again)
+      return threadRefused + system->code().message();
     return "the system refused: " + system->code().message();
+  }
   std::string what = e.what();
+  if (const std::string tbb = "pthread_create has failed: "; what.rfind(tbb, 0) == 0)
+    return threadRefused + what.substr(tbb.size());
   for (size_t at; (at = what.find("std::")) != std::string::npos;) what.erase(at, 5);
   return "internal error (" + what + "); please report it with the scene";
 }

@@ -126,7 +126,17 @@ TEST(UnexpectedError, IsDescribedWithoutLibraryNames) {
   EXPECT_NE(fsError.find("/no/such"), std::string::npos) << fsError;
   const std::string system = describeUnexpectedError(
       std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again)));
-  EXPECT_EQ(system.rfind("the system refused: ", 0), 0u) << system;
+  EXPECT_EQ(system.rfind("the system refused", 0), 0u) << system;
+  // A thread refused (std::thread's code, TBB's worker pool's text): the
+  // user hears that memory may be short, not "internal error".
+  EXPECT_NE(system.find("not enough memory"), std::string::npos) << system;
+  const std::string pool = describeUnexpectedError(
+      std::runtime_error("pthread_create has failed: Resource temporarily unavailable"));
+  EXPECT_EQ(pool, "the system refused to start a thread (not enough memory, or too many "
+                  "threads): Resource temporarily unavailable");
+  const std::string denied = describeUnexpectedError(
+      std::system_error(std::make_error_code(std::errc::permission_denied)));
+  EXPECT_EQ(denied.rfind("the system refused: ", 0), 0u) << denied;
 }
 
 } // namespace

@@ -198,27 +198,6 @@ Transform Transform::inverse() const {
   return t.cacheDerived();
 }
 
-Vec3 Transform::applyPoint(const Vec3 &p) const {
-  const auto &m = m_.m;
-  return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
-          m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
-          m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
-}
-
-Vec3 Transform::applyVector(const Vec3 &v) const {
-  const auto &m = m_.m;
-  return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
-}
-
-Vec3 Transform::applyNormal(const Vec3 &n) const {
-  const auto &m = inv_.m;
-  return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
-          m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
-          m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
-}
-
 double Transform::maxLinearEntry() const {
   double s = 0;
   for (int i = 0; i < 3; ++i)

@@ -21,6 +21,30 @@ struct Mat4 {
   bool operator==(const Mat4 &o) const { return m == o.m; }
 };
 
+/// m * (p, 1).
+inline Vec3 affinePoint(const Mat4 &mat, const Vec3 &p) {
+  const auto &m = mat.m;
+  return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
+          m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
+          m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
+}
+
+/// m * (v, 0).
+inline Vec3 affineVector(const Mat4 &mat, const Vec3 &v) {
+  const auto &m = mat.m;
+  return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+}
+
+/// A normal through `inv` = the inverse of the point transform: inv^T n.
+inline Vec3 affineNormal(const Mat4 &inv, const Vec3 &n) {
+  const auto &m = inv.m;
+  return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
+          m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+          m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
+}
+
 /// An invertible affine transform. Construction never yields NaN: the
 /// factories below report a singular matrix through `singular()`, and the
 /// scene layer turns that into a SceneError at the script line.
@@ -48,10 +72,13 @@ public:
   Transform operator*(const Transform &o) const;
   Transform inverse() const;
 
-  Vec3 applyPoint(const Vec3 &p) const;
-  Vec3 applyVector(const Vec3 &v) const;
+  // Inline: camera rays and lights place a point or vector per sample, and
+  // a Vec3 returned through memory from another translation unit is read
+  // back across its separate 8-byte stores (a store-forwarding stall).
+  Vec3 applyPoint(const Vec3 &p) const { return affinePoint(m_, p); }
+  Vec3 applyVector(const Vec3 &v) const { return affineVector(m_, v); }
   /// Transforms a normal by the inverse transpose (result not normalised).
-  Vec3 applyNormal(const Vec3 &n) const;
+  Vec3 applyNormal(const Vec3 &n) const { return affineNormal(inv_, n); }
   Ray applyRay(const Ray &r) const {
     return {applyPoint(r.o), applyVector(r.d), r.tMin, r.tMax, r.time};
   }

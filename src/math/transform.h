@@ -72,9 +72,8 @@ public:
   Transform operator*(const Transform &o) const;
   Transform inverse() const;
 
-  // Inline: camera rays and lights place a point or vector per sample, and
-  // a Vec3 returned through memory from another translation unit is read
-  // back across its separate 8-byte stores (a store-forwarding stall).
+  // Inline (the same products as affinePoint and the others): camera rays
+  // and lights place a point or vector per sample.
   Vec3 applyPoint(const Vec3 &p) const { return affinePoint(m_, p); }
   Vec3 applyVector(const Vec3 &v) const { return affineVector(m_, v); }
   /// Transforms a normal by the inverse transpose (result not normalised).

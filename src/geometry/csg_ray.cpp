@@ -1,7 +1,7 @@
 // Pipeline: geometry. See csg_ray.h.
 #include "geometry/csg_ray.h"
 
-#include "math/affine.h"
+#include "math/transform.h"
 #include "geometry/csg_tree.h"
 #include "geometry/shape.h"
 

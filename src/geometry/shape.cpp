@@ -7,7 +7,7 @@
 // one dispatch; no allocation: both backends call this per ray.
 #include "geometry/shape.h"
 
-#include "math/affine.h"
+#include "math/transform.h"
 #include "geometry/csg_ray.h"
 #include "geometry/csg_tree.h"
 #include "math/error_bound.h"

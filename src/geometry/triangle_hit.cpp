@@ -3,7 +3,7 @@
 // The point comes from the barycentric interpolation of the vertices, not
 // from o + t d, so it lies on the triangle's plane up to a few ulps whatever
 // the precision of the test that found it (pbrt's technique).
-#include "math/affine.h"
+#include "math/transform.h"
 #include "math/error_bound.h"
 #include "geometry/shape.h"
 

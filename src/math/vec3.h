@@ -36,6 +36,8 @@ constexpr Vec3 cross(const Vec3 &a, const Vec3 &b) {
 }
 inline double length(const Vec3 &v) { return std::sqrt(dot(v, v)); }
 inline Vec3 normalize(const Vec3 &v) { return v / length(v); }
+/// v scaled to unit length (one division; normalize divides three times).
+inline Vec3 unitVector(const Vec3 &v) { return v * (1 / length(v)); }
 inline Vec3 abs(const Vec3 &v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
 inline Vec3 min(const Vec3 &a, const Vec3 &b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};

@@ -3,7 +3,7 @@
 // "Spherical").
 #pragma once
 
-#include "math/affine.h"
+#include "math/transform.h"
 #include "math/constants.h"
 #include "math/motion_steps.h"
 #include "math/ray.h"

@@ -4,7 +4,7 @@
 #include "geometry/csg_ray.h"
 #include "geometry/csg_tree.h"
 #include "geometry/shape.h"
-#include "math/affine.h"
+#include "math/transform.h"
 #include "math/onb.h"
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 // at y = 0, apex at (0, 1, 0), base capped unless `open`.
 #include "geometry/shapes/cone.h"
 
-#include "math/affine.h"
+#include "math/transform.h"
 #include "geometry/shapes/disc_bounds.h"
 
 #include <algorithm>

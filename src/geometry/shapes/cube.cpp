@@ -9,7 +9,7 @@
 //   +y: u = x + 0.5, v = z + 0.5     -y: u = 0.5 - x, v = z + 0.5
 #include "geometry/shapes/cube.h"
 
-#include "math/affine.h"
+#include "math/transform.h"
 
 #include <algorithm>
 #include <limits>

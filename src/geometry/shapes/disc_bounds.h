@@ -2,7 +2,7 @@
 // shapes built from discs (Cylinder, Cone).
 #pragma once
 
-#include "math/affine.h"
+#include "math/transform.h"
 #include "math/bounds.h"
 
 #include <cmath>

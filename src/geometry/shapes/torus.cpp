@@ -14,7 +14,6 @@
 // refined further in long double by shape.cpp (refine below).
 #include "geometry/shapes/torus.h"
 
-#include "math/affine.h"
 
 #include <algorithm>
 #include <limits>

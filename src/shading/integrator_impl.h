@@ -138,10 +138,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
             ShadowShafts::Candidates candidates;
             if (coherent && shafts_.enabled()) {
               Bounds3 from, to;
-              for (size_t j = 0; j < n; ++j) {
-                from.extend(shadowRays[j].o);
-                to.extend(shadowRays[j].o + shadowRays[j].d);
-              }
+              shaftEnds(shadowRays, n, from, to);
               candidates = shafts_.candidates(from, to);
             }
             if (candidates.clear) {

@@ -74,6 +74,31 @@ private:
   std::vector<HalfSpace> planes_; ///< unbounded entities (Plane)
 };
 
+/// The boxes around the origins (`from`) and the ends (o + d: a shadow
+/// ray's tMax is 1) of rays[0, n). Each box in its own loop over six
+/// locals, not through Bounds3::extend: the light loop runs this for every
+/// batch of shadow rays, and a box kept in memory (or twelve running
+/// bounds, more than the registers hold) chains each ray's update through
+/// a store and a load.
+inline void shaftEnds(const Ray *rays, size_t n, Bounds3 &from, Bounds3 &to) {
+  Vec3 lo = from.lo, hi = from.hi;
+  for (size_t j = 0; j < n; ++j) {
+    lo = min(lo, rays[j].o);
+    hi = max(hi, rays[j].o);
+  }
+  from.lo = lo;
+  from.hi = hi;
+  lo = to.lo;
+  hi = to.hi;
+  for (size_t j = 0; j < n; ++j) {
+    const Vec3 end = rays[j].o + rays[j].d;
+    lo = min(lo, end);
+    hi = max(hi, end);
+  }
+  to.lo = lo;
+  to.hi = hi;
+}
+
 /// Whether the shaft between boxes a and b (the convex hull of their union)
 /// meets box c. Exact for the hull of the two boxes: the hull is the union
 /// over s in [0, 1] of the boxes (1 - s) a + s b, so it meets c iff one s

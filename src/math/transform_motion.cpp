@@ -119,6 +119,14 @@ Mat4 place(const Mat3 &l, const Vec3 &t) {
   return m;
 }
 
+/// P + c Q + sn W for a segment's three fixed matrices `pqw`.
+inline Mat3 blend(const std::array<Mat3, 3> &pqw, double c, double sn) {
+  Mat3 m;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) m[a][b] = pqw[0][a][b] + c * pqw[1][a][b] + sn * pqw[2][a][b];
+  return m;
+}
+
 /// A number no other TransformMotion of the process has (from 1).
 uint64_t nextSerial() {
   static std::atomic<uint64_t> next{1};
@@ -215,32 +223,17 @@ TransformMotion::TransformMotion(std::vector<Transform> steps)
         s.linear[j] = product(s.rotation[j], a.stretch);
         s.linearInverse[j] = product(stretchInverse, transposed(s.rotation[j]));
       }
+      // The blends segmentMatrix would make at every time (theta = 0: c =
+      // 1, sn = 0), made once: the same arithmetic, the same bits.
+      s.still = s.theta == 0;
+      if (s.still) {
+        s.stillLinear = blend(s.linear, 1, 0);
+        s.stillInverse = blend(s.linearInverse, 1, 0);
+      }
     }
     segments_.push_back(s);
   }
 }
-
-namespace {
-
-/// out = P + c Q + sn W for a segment's three fixed matrices `pqw`, placed
-/// with translation `t`: after the blend (a forward matrix) or, for an
-/// inverse, as -blend * t. Written straight into `out`: this runs once per
-/// moving entity a ray tests.
-inline void blendPlaced(const std::array<std::array<std::array<double, 3>, 3>, 3> &pqw, double c,
-                        double sn, const Vec3 &t, bool inverse, Mat4 &out) {
-  // In locals first: stores into `out` could alias the reads.
-  double m[3][3];
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) m[a][b] = pqw[0][a][b] + c * pqw[1][a][b] + sn * pqw[2][a][b];
-  const double shift[3] = {t.x, t.y, t.z};
-  for (int a = 0; a < 3; ++a) {
-    const double last = inverse ? -(m[a][0] * t.x + m[a][1] * t.y + m[a][2] * t.z) : shift[a];
-    out.m[a] = {m[a][0], m[a][1], m[a][2], last};
-  }
-  out.m[3] = {0, 0, 0, 1};
-}
-
-} // namespace
 
 void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inverse) const {
   const Segment &s = segments_[i];
@@ -250,9 +243,14 @@ void TransformMotion::segmentMatrix(size_t i, double u, Mat4 *forward, Mat4 *inv
     sn = std::sin(2 * u * s.theta);
     c = std::cos(2 * u * s.theta);
   }
+  if (s.still) {
+    if (forward) motion_detail::placeInto(s.stillLinear, t, false, *forward);
+    if (inverse) motion_detail::placeInto(s.stillInverse, t, true, *inverse);
+    return;
+  }
   if (s.fixedStretch) {
-    if (forward) blendPlaced(s.linear, c, sn, t, false, *forward);
-    if (inverse) blendPlaced(s.linearInverse, c, sn, t, true, *inverse);
+    if (forward) motion_detail::placeInto(blend(s.linear, c, sn), t, false, *forward);
+    if (inverse) motion_detail::placeInto(blend(s.linearInverse, c, sn), t, true, *inverse);
     return;
   }
   Mat3 rotation, stretch = s.stretch;
@@ -279,7 +277,7 @@ Transform TransformMotion::at(double time) const {
   return Transform::fromMatrixAndInverse(m, inverse);
 }
 
-Mat4 TransformMotion::inverseMatrixAt(double time) const {
+Mat4 TransformMotion::cachedInverseAt(double time, size_t i, double u) const {
   // The rays of one camera sample share its time: its shadow rays (one
   // per light cell) test the same moving entities at the same time. A
   // cache per thread, keyed by motion and time, answers those repeats (the
@@ -302,14 +300,11 @@ Mat4 TransformMotion::inverseMatrixAt(double time) const {
   if (e.serial == serial_ && e.time == time) return e.inverse;
   e.serial = serial_;
   e.time = time;
-  computeInverseAt(time, e.inverse);
+  computeInverse(time, i, u, e.inverse);
   return e.inverse;
 }
 
-void TransformMotion::computeInverseAt(double time, Mat4 &inverse) const {
-  size_t i;
-  double u;
-  locateMotionStep(time, steps_.size(), i, u);
+void TransformMotion::computeInverse(double time, size_t i, double u, Mat4 &inverse) const {
   if (u == 0) {
     inverse = steps_[i].inverseMatrix();
   } else if (u == 1) {

@@ -40,6 +40,23 @@ TransformParts decompose(const Mat4 &m);
 /// The affine matrix T R S of `parts`.
 Mat4 compose(const TransformParts &parts);
 
+namespace motion_detail {
+
+/// The linear part `m` placed with translation `t` into `out`: after it (a
+/// forward matrix) or, for an inverse, as -m t. Written straight into
+/// `out`: this runs once per moving entity a ray tests.
+inline void placeInto(const std::array<std::array<double, 3>, 3> &m, const Vec3 &t, bool inverse,
+                      Mat4 &out) {
+  const double shift[3] = {t.x, t.y, t.z};
+  for (int a = 0; a < 3; ++a) {
+    const double last = inverse ? -(m[a][0] * t.x + m[a][1] * t.y + m[a][2] * t.z) : shift[a];
+    out.m[a] = {m[a][0], m[a][1], m[a][2], last};
+  }
+  out.m[3] = {0, 0, 0, 1};
+}
+
+} // namespace motion_detail
+
 /// A transform at k >= 2 motion steps, times 0, 1/(k-1), ..., 1 of the
 /// shutter.
 class TransformMotion {
@@ -56,7 +73,19 @@ public:
   /// Only the matrix of at(time) (no inverse): cameras.
   Mat4 matrixAt(double time) const;
   /// Only the inverse matrix of at(time), the same bits: a ray test.
-  Mat4 inverseMatrixAt(double time) const;
+  /// Inline for a segment that only slides (a few products, per test of a
+  /// moving entity); the others go to a cache.
+  Mat4 inverseMatrixAt(double time) const {
+    size_t i;
+    double u;
+    locateMotionStep(time, steps_.size(), i, u);
+    const Segment &s = segments_[i];
+    if (!s.still || u == 0 || u == 1) return cachedInverseAt(time, i, u);
+    Mat4 inverse;
+    motion_detail::placeInto(s.stillInverse, s.translation + s.translationChange * u, true,
+                             inverse);
+    return inverse;
+  }
 
   /// Bounds of `objectBox` placed by the transform over the times [t0, t1]:
   /// the boxes at evenly spaced times, widened by how far any point of the
@@ -96,9 +125,16 @@ private:
     /// transform's inverse needs no solve.
     bool fixedStretch = false;
     std::array<Mat3, 3> linear{}, linearInverse{};
+    /// No turn either (theta = 0, a slide): the linear part and its
+    /// inverse are fixed matrices, and only the translation moves.
+    bool still = false;
+    Mat3 stillLinear{}, stillInverse{};
   };
+  /// inverseMatrixAt through a cache; `i` and `u` say where `time` falls
+  /// (locateMotionStep).
+  Mat4 cachedInverseAt(double time, size_t i, double u) const;
   /// inverseMatrixAt without its cache, written into `inverse`.
-  void computeInverseAt(double time, Mat4 &inverse) const;
+  void computeInverse(double time, size_t i, double u, Mat4 &inverse) const;
   /// Segment i's matrix at fraction u (when `forward` is given: always
   /// without a fixed stretch) and, for a fixed stretch, its inverse (when
   /// `inverse` is).

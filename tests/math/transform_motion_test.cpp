@@ -44,11 +44,13 @@ TEST(TransformMotion, ASpinningWheelTurnsEvenlyAndKeepsItsSize) {
     expectNear(at.matrix(), (place * Transform::rotate(kZ, 120 * t)).matrix(), 1e-12);
     EXPECT_NEAR(at.matrix().det3(), 8, 1e-12); // a linear blend of matrices gives 2
   }
-  // Between steps, of a turning wheel and of one that also grows: the
-  // inverse is the matrix's.
+  // Between steps, of a turning wheel, of one that also grows and of one
+  // that only slides (its inverse made another way): the inverse is the
+  // matrix's.
   const TransformMotion growing({place, Transform::translate({0, 1, 0}) *
                                             Transform::rotate(kZ, 60) * Transform::scale(3, 1, 2)});
-  for (const TransformMotion *m : {&wheel, &growing})
+  const TransformMotion sliding({place, Transform::translate({3, -1, 2}) * place});
+  for (const TransformMotion *m : {&wheel, &growing, &sliding})
     for (double t : {0.1, 0.5, 0.9}) {
       const Transform at = m->at(t);
       expectNear(at.matrix() * at.inverseMatrix(), Mat4::identity(), 1e-13);

@@ -75,28 +75,32 @@ private:
 };
 
 /// The boxes around the origins (`from`) and the ends (o + d: a shadow
-/// ray's tMax is 1) of rays[0, n). Each box in its own loop over six
-/// locals, not through Bounds3::extend: the light loop runs this for every
-/// batch of shadow rays, and a box kept in memory (or twelve running
-/// bounds, more than the registers hold) chains each ray's update through
-/// a store and a load.
+/// ray's tMax is 1) of rays[0, n), n > 0. The light loop runs this for
+/// every batch of shadow rays: six running bounds of coordinate pairs (x
+/// and y of the origins, of the ends; z of both), where twelve doubles kept
+/// in memory or spilled from registers chained each ray's update through a
+/// store and a load. Each bound is std::min/std::max's choice, in order.
 inline void shaftEnds(const Ray *rays, size_t n, Bounds3 &from, Bounds3 &to) {
-  Vec3 lo = from.lo, hi = from.hi;
-  for (size_t j = 0; j < n; ++j) {
-    lo = min(lo, rays[j].o);
-    hi = max(hi, rays[j].o);
+  using Pair = double __attribute__((vector_size(2 * sizeof(double))));
+  auto first = [](const Vec3 &v) { return Pair{v.x, v.y}; };
+  const Vec3 end0 = rays[0].o + rays[0].d;
+  Pair fromLo = first(rays[0].o), fromHi = fromLo, toLo = first(end0), toHi = toLo;
+  Pair zLo = {rays[0].o.z, end0.z}, zHi = zLo;
+  for (size_t j = 1; j < n; ++j) {
+    const Vec3 &o = rays[j].o;
+    const Vec3 end = o + rays[j].d;
+    const Pair xy = first(o), endXy = first(end), z = {o.z, end.z};
+    fromLo = xy < fromLo ? xy : fromLo;
+    fromHi = fromHi < xy ? xy : fromHi;
+    toLo = endXy < toLo ? endXy : toLo;
+    toHi = toHi < endXy ? endXy : toHi;
+    zLo = z < zLo ? z : zLo;
+    zHi = zHi < z ? z : zHi;
   }
-  from.lo = lo;
-  from.hi = hi;
-  lo = to.lo;
-  hi = to.hi;
-  for (size_t j = 0; j < n; ++j) {
-    const Vec3 end = rays[j].o + rays[j].d;
-    lo = min(lo, end);
-    hi = max(hi, end);
-  }
-  to.lo = lo;
-  to.hi = hi;
+  from.lo = {fromLo[0], fromLo[1], zLo[0]};
+  from.hi = {fromHi[0], fromHi[1], zHi[0]};
+  to.lo = {toLo[0], toLo[1], zLo[1]};
+  to.hi = {toHi[0], toHi[1], zHi[1]};
 }
 
 /// Whether the shaft between boxes a and b (the convex hull of their union)

@@ -137,6 +137,7 @@ private:
     Ray *shadowRays;
     uint8_t *blocked;
     SpawnOrigins *origins; ///< per point: where its shadow rays start
+    Vec3 *targets;         ///< per light sample: where it lies
   };
   struct TileScratch;
 

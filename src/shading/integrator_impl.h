@@ -96,6 +96,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           typename LightScratch::Pending *__restrict pending = scratch.pending;
           Ray *__restrict shadowRays = scratch.shadowRays;
           uint8_t *__restrict blocked = scratch.blocked;
+          Vec3 *__restrict targets = scratch.targets;
           size_t shadow = 0;
           // Every sample of the light brings the same light (its own colour
           // need not be stored or tested per shadow ray).
@@ -106,7 +107,12 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           const int rounds = (cells + shares - 1) / shares;
           const double shareWeight = shares;
           for (int round = 0; round < rounds; ++round) {
-            size_t n = 0;
+            // In two passes, each a short loop whose iterations overlap: the
+            // light's samples (each point's sampler draws in the same order
+            // as ever), then the directions and the shadow rays of those
+            // that face their surface. As one loop, each sample's draw,
+            // square root and division waited on the one before.
+            size_t m = 0;
             for (size_t i = 0; i < count; ++i) {
               if ((found && !found[i]) || !surfaces[i].m->lit) continue;
               int k = round;
@@ -114,24 +120,33 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
                 k = round * shares + static_cast<int>(samplers[i].lightStratum % shares);
                 if (k >= cells) continue;
               }
-              const Hit &hit = hits[i];
-              const LightSample sample = source.sample(k, hit.p, samplers[i]);
-              auto &p = pending[n];
-              Vec3 toLight = sample.target - hit.p;
-              double dist = length(toLight);
-              if (!(dist > 0)) continue;
+              const LightSample sample = source.sample(k, hits[i].p, samplers[i]);
               if constexpr (!kUniform) {
                 if (sample.color.isBlack()) continue; // outside a spot's cone
+                pending[m].dir.color = sample.color;
               }
+              targets[m] = sample.target;
+              pending[m].ray = static_cast<uint32_t>(i);
+              ++m;
+            }
+            size_t n = 0; // compacted in place: n <= j
+            for (size_t j = 0; j < m; ++j) {
+              const uint32_t i = pending[j].ray;
+              const Hit &hit = hits[i];
+              const Vec3 target = targets[j];
+              Vec3 toLight = target - hit.p;
+              double dist = length(toLight);
+              if (!(dist > 0)) continue;
+              auto &p = pending[n];
               p.dir.l = toLight / dist;
               p.dir.nl = dot(surfaces[i].n, p.dir.l);
               if (p.dir.nl <= 0) continue; // faces away: no shadow ray
-              if constexpr (!kUniform) p.dir.color = sample.color;
-              ++shadow;
-              p.ray = static_cast<uint32_t>(i);
-              spawnRayTo(scratch.origins[i], hit, sample.target, shadowRays[n]);
+              if constexpr (!kUniform) p.dir.color = pending[j].dir.color;
+              p.ray = i;
+              spawnRayTo(scratch.origins[i], hit, target, shadowRays[n]);
               ++n;
             }
+            shadow += n;
             if (n == 0) continue;
             // Nothing between these rays' origins and ends: every one is clear.
             // Few analytic objects that may block: test those alone.
@@ -190,8 +205,9 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &
   uint8_t blocked;
   Color sum;
   SpawnOrigins origins;
+  Vec3 target;
   addDirectLight(&hit, &s, nullptr, &sampler, 1, false,
-                 {&pending, &shadowRay, &blocked, &origins}, &sum, counts);
+                 {&pending, &shadowRay, &blocked, &origins, &target}, &sum, counts);
   return sum;
 }
 
@@ -218,6 +234,7 @@ template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<Ray, kMaxTileRays> shadowRays;
   std::array<uint8_t, kMaxTileRays> blocked;
   std::array<SpawnOrigins, kMaxTileRays> origins;
+  std::array<Vec3, kMaxTileRays> targets;
 };
 
 template <class Accel>
@@ -238,7 +255,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   }
   addDirectLight(hits, surface.data(), found, samplers, count, true,
                  {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
-                  scratch.origins.data()},
+                  scratch.origins.data(), scratch.targets.data()},
                  lightSum.data(), counts);
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {

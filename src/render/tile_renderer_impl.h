@@ -70,19 +70,18 @@ inline uint64_t timePatternSeed(uint64_t stream, uint64_t pixel) {
   return mix64(mix64(stream + 0xbe5466cf34e90c6cULL) ^ pixel);
 }
 
-/// The camera ray of sample s of pixel (x, y) through image position (px,
-/// py) with its lens point and its time in the shutter: the pixel's sample
-/// s in dimensions of their own, stratified over the pixel's samples like
-/// the positions. The time goes to the sample's `sampler` too (moving
+/// The camera ray of sample s of a pixel through image position (px, py)
+/// with its lens point and its time in the shutter: the pixel's sample s
+/// in dimensions of their own (scrambled by the pixel's lensPatternSeed and
+/// timePatternSeed), stratified over the pixel's samples like the
+/// positions. The time goes to the sample's `sampler` too (moving
 /// lights). A call of its own: the pinhole, unblurred loop stays small.
-[[gnu::noinline]] inline Ray lensOrTimedRay(const CameraRays &camera, const FrameSettings &settings,
-                                            int x, int y, uint32_t s, double px, double py,
-                                            Sampler &sampler) {
-  const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
+[[gnu::noinline]] inline Ray lensOrTimedRay(const CameraRays &camera, uint64_t lensPattern,
+                                            uint64_t timePattern, uint32_t s, double px,
+                                            double py, Sampler &sampler) {
   double lu = 0.5, lv = 0.5;
-  if (camera.hasLens()) owenSobol2D(s, lensPatternSeed(settings.stream(), pixel), lu, lv);
-  if (camera.timed())
-    sampler.time = static_cast<float>(owenSobol1D(s, timePatternSeed(settings.stream(), pixel)));
+  if (camera.hasLens()) owenSobol2D(s, lensPattern, lu, lv);
+  if (camera.timed()) sampler.time = static_cast<float>(owenSobol1D(s, timePattern));
   return camera.generate(px, py, lu, lv, sampler.time);
 }
 
@@ -102,9 +101,10 @@ template <class Integ> struct TileWork {
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
   /// Per tile pixel, what its samples' streams share (computed once per
-  /// pixel): the Sampler key's pixel part, the Owen scramble seed of its
-  /// positions, the offset of its light strata.
-  std::array<uint64_t, kTilePixels> samplerKey, pattern;
+  /// pixel): the Sampler key's pixel part, the Owen scramble seeds of its
+  /// positions, lens points and times (the last two when the camera has
+  /// them), the offset of its light strata.
+  std::array<uint64_t, kTilePixels> samplerKey, pattern, lensPattern, timePattern;
   std::array<uint32_t, kTilePixels> stratumOffset;
   static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
@@ -170,6 +170,10 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const uint64_t pixel = static_cast<uint64_t>(rect.y(i)) * settings.width + rect.x(i);
       work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
       work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
+      if (camera.hasLens())
+        work.lensPattern[i] = tile_detail::lensPatternSeed(settings.stream(), pixel);
+      if (camera.timed())
+        work.timePattern[i] = tile_detail::timePatternSeed(settings.stream(), pixel);
       if (spreadLight)
         work.stratumOffset[i] = tile_detail::lightStratumOffset(settings.stream(), pixel);
     }
@@ -207,7 +211,8 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       double px, py;
       position(x, y, work.pattern[i], s, sampler, px, py);
       if (camera.hasLens() || camera.timed()) [[unlikely]]
-        work.rays[rays] = tile_detail::lensOrTimedRay(camera, settings, x, y, s, px, py, sampler);
+        work.rays[rays] = tile_detail::lensOrTimedRay(camera, work.lensPattern[i],
+                                                      work.timePattern[i], s, px, py, sampler);
       else
         work.rays[rays] = camera.generate(px, py);
       work.pixelOf[rays] = static_cast<uint16_t>(i);

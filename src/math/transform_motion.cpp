@@ -231,6 +231,7 @@ TransformMotion::TransformMotion(std::vector<Transform> steps)
         s.stillInverse = blend(s.linearInverse, 1, 0);
       }
     }
+    slides_ = slides_ && s.still;
     segments_.push_back(s);
   }
 }

@@ -65,6 +65,9 @@ public:
   explicit TransformMotion(std::vector<Transform> steps);
 
   size_t stepCount() const { return steps_.size(); }
+  /// Whether it only slides (no turn, the same stretch, at every step):
+  /// then inverseMatrixAt is a few products.
+  bool slides() const { return slides_; }
   const Transform &step(size_t i) const { return steps_[i]; }
 
   /// The transform at `time` in [0, 1] (clamped): exactly step i's at its
@@ -147,6 +150,7 @@ private:
   std::vector<TransformParts> parts_;
   std::vector<Segment> segments_;
   uint64_t serial_; ///< unique in the process: inverseMatrixAt's cache key
+  bool slides_ = true;
 };
 
 template <class BoundsAt>

@@ -50,6 +50,9 @@ TEST(TransformMotion, ASpinningWheelTurnsEvenlyAndKeepsItsSize) {
   const TransformMotion growing({place, Transform::translate({0, 1, 0}) *
                                             Transform::rotate(kZ, 60) * Transform::scale(3, 1, 2)});
   const TransformMotion sliding({place, Transform::translate({3, -1, 2}) * place});
+  EXPECT_TRUE(sliding.slides());
+  EXPECT_FALSE(wheel.slides());
+  EXPECT_FALSE(growing.slides());
   for (const TransformMotion *m : {&wheel, &growing, &sliding})
     for (double t : {0.1, 0.5, 0.9}) {
       const Transform at = m->at(t);

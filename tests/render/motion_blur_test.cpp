@@ -2,7 +2,7 @@
 // blurred frame matches the average of many frames rendered at single clock
 // values inside its shutter (brute force), on both backends, bit for bit the
 // same on both; the scenes of a shutter must match, and say where not.
-#include "accel/kdtree/moving_boxes.h"
+#include "accel/moving_boxes.h"
 #include "bindings/scene_script.h"
 #include "geometry/csg_tree.h"
 #include "geometry/shape.h"
@@ -249,8 +249,8 @@ TEST(MotionBlur, OnlyWhatMovesGetsAMotion) {
   EXPECT_NEAR(scene.lightMotion[0]->at(1).x, 3, 1e-12);
 }
 
-// The kd-tree's test of a ray against a moving entity's bounds at the
-// ray's time (accel/kdtree/moving_boxes.h) must never turn away a ray that
+// The backends' test of a ray against a moving entity's bounds at the
+// ray's time (accel/moving_boxes.h) must never turn away a ray that
 // hits it, and should turn away some that do not.
 TEST(MotionBlur, AMovingEntitysBoundsAtARaysTimeHoldEveryHit) {
   int calls = 0;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
+#include "accel/moving_boxes.h"
 #include "accel/unbounded_shapes.h"
 
 #include <atomic>
@@ -70,6 +71,9 @@ private:
   /// Planes: outside the Embree scene, tested after it (closest) or before
   /// it (any hit).
   UnboundedShapes unbounded_;
+  /// The moving entities' bounds at each motion step: Embree's bounds for
+  /// them, and each ray's test of its box before the entity's own.
+  MovingBoxes moving_;
   /// Origin of the float frame Embree works in (geometry/float_frame.h).
   Vec3 frameOrigin_;
   /// Padded copies of vertex buffers whose capacity leaves no room for

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "accel/accelerator.h"
-#include "accel/kdtree/moving_boxes.h"
+#include "accel/moving_boxes.h"
 #include "accel/unbounded_shapes.h"
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"

@@ -1,10 +1,12 @@
-// Pipeline: acceleration (kd-tree). The kd-tree bounds a moving entity over
-// the whole shutter (lua/README.md, "Motion blur"), so a ray meets it in
-// every leaf its sweep touches. Before the entity's transform at the ray's
-// time is computed (the costly part of a moving entity's test), the ray is
-// tested against its bounds at that time: the blend of its bounds at the
-// two motion steps around it (stepWorldBounds), which holds the entity at
-// every time between them.
+// Pipeline: acceleration (both backends). A moving entity's bounds at a
+// ray's time: the blend of its bounds at the two motion steps around it
+// (stepWorldBounds), which holds the entity at every time between them
+// (lua/README.md, "Motion blur"). Before the entity's transform at the
+// ray's time is computed (the costly part of a moving entity's test), the
+// ray is tested against that box. The kd-tree bounds a moving entity over
+// the whole shutter, so a ray meets it in every leaf its sweep touches;
+// Embree calls a user geometry's test for every primitive of a leaf it
+// reaches, with every ray of a packet that reached the leaf.
 #pragma once
 
 #include "geometry/shape.h"
@@ -39,6 +41,10 @@ public:
 
   /// Whether entity `entity` moves (has step bounds here).
   bool moves(uint32_t entity) const { return !first_.empty() && first_[entity] != kNone; }
+  /// Its bounds at motion step `step` (moves(entity)).
+  const Bounds3 &stepBox(uint32_t entity, size_t step) const {
+    return boxes_[first_[entity] + step];
+  }
 
   /// True when `ray`, over [ray.tMin, tMax], surely misses entity `entity`
   /// at the ray's time; false for an entity that does not move.

@@ -73,8 +73,8 @@ private:
   /// generate for a moving camera (Camera::motion): placed at `time`.
   /// Flattened: GCC called the placement's two products out of line, once
   /// each per camera ray.
-  [[gnu::noinline, gnu::flatten]] Ray generateMoving(double px, double py, double lensU, double lensV,
-                                       float time) const {
+  [[gnu::noinline, gnu::flatten]] Ray generateMoving(double px, double py, double lensU,
+                                                     double lensV, float time) const {
     size_t i;
     double f;
     locateMotionStep(time, path_.size(), i, f); // the table's entries as steps

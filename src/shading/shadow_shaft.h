@@ -82,14 +82,14 @@ private:
 /// store and a load. Each bound is std::min/std::max's choice, in order.
 inline void shaftEnds(const Ray *rays, size_t n, Bounds3 &from, Bounds3 &to) {
   using Pair = double __attribute__((vector_size(2 * sizeof(double))));
-  auto first = [](const Vec3 &v) { return Pair{v.x, v.y}; };
+  auto xyOf = [](const Vec3 &v) { return Pair{v.x, v.y}; };
   const Vec3 end0 = rays[0].o + rays[0].d;
-  Pair fromLo = first(rays[0].o), fromHi = fromLo, toLo = first(end0), toHi = toLo;
+  Pair fromLo = xyOf(rays[0].o), fromHi = fromLo, toLo = xyOf(end0), toHi = toLo;
   Pair zLo = {rays[0].o.z, end0.z}, zHi = zLo;
   for (size_t j = 1; j < n; ++j) {
     const Vec3 &o = rays[j].o;
     const Vec3 end = o + rays[j].d;
-    const Pair xy = first(o), endXy = first(end), z = {o.z, end.z};
+    const Pair xy = xyOf(o), endXy = xyOf(end), z = {o.z, end.z};
     fromLo = xy < fromLo ? xy : fromLo;
     fromHi = fromHi < xy ? xy : fromHi;
     toLo = endXy < toLo ? endXy : toLo;

@@ -33,11 +33,9 @@ public:
   /// whether the ray hits anything.
   bool intersect(const Ray &ray, Hit &hit, bool found) const {
     for (uint32_t i : indices_) {
-      Ray bounded = ray;
-      if (found) bounded.tMax = hit.t;
+      const double tMax = found ? hit.t : ray.tMax;
       Hit candidate;
-      if (!intersectShape(scene_->entities[i], i, bounded, candidate) ||
-          !(candidate.t < bounded.tMax))
+      if (!intersectShape(scene_->entities[i], i, ray, tMax, candidate) || !(candidate.t < tMax))
         continue;
       hit = candidate;
       found = true;

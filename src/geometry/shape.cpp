@@ -96,10 +96,10 @@ double refineHitT(const S &shape, const Transform &xf, const Ray &worldRay, doub
 }
 
 /// The hit of an object-space test's result `oh` on `ray` (the shifted
-/// object ray of `worldRay`, re-origined by `shift`).
+/// object ray of `worldRay`, re-origined by `shift`), before `tMax`.
 template <class S>
 bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, const Ray &worldRay,
-                  const Ray &ray, double shift, const ObjectHit &oh, Hit &hit) {
+                  double tMax, const Ray &ray, double shift, const ObjectHit &oh, Hit &hit) {
   ObjectSurface s = shape.surface(ray, oh);
   hit.t = oh.t + shift;
   hit.time = worldRay.time;
@@ -115,7 +115,7 @@ bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, con
     // an earlier refined hit of this shape (a backend visiting it twice)
     // does not accept the same point again with its unrefined t. Below
     // tMin the double t stands: the ray may start on the surface.
-    if (!(t < worldRay.tMax)) return false;
+    if (!(t < tMax)) return false;
     if (t > worldRay.tMin) hit.t = t;
   }
   hit.u = s.u;
@@ -129,13 +129,34 @@ bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, con
 /// for a hit: a moving entity's is computed then, not for every miss.
 template <class S, class Placement>
 bool intersectAnalytic(const S &shape, const Mat4 &inverse, Placement placement,
-                       uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
+                       uint32_t entityIndex, const Ray &worldRay, double tMax, Hit &hit) {
   Ray ray = objectRay(inverse, worldRay);
+  ray.tMax = tMax;
   const double shift = shape.originShift(ray);
   reorigin(ray, shift);
   ObjectHit oh;
   if (!shape.intersect(ray, oh)) return false;
-  return fillAnalytic(shape, placement(), entityIndex, worldRay, ray, shift, oh, hit);
+  return fillAnalytic(shape, placement(), entityIndex, worldRay, tMax, ray, shift, oh, hit);
+}
+
+/// Any hit of the shape before `tMax`, the ray taken into object space by
+/// `inverse`.
+template <class S>
+[[gnu::always_inline]] inline bool occludedAnalytic(const S &shape, const Mat4 &inverse,
+                                                    const Ray &worldRay, double tMax) {
+  Ray ray = objectRay(inverse, worldRay);
+  ray.tMax = tMax;
+  reorigin(ray, shape.originShift(ray));
+  ObjectHit oh;
+  return shape.intersect(ray, oh);
+}
+
+/// `worldRay` with the bound `tMax`, for the CSG code, which reads it off
+/// the ray.
+Ray bounded(const Ray &worldRay, double tMax) {
+  Ray ray = worldRay;
+  ray.tMax = tMax;
+  return ray;
 }
 
 } // namespace
@@ -241,22 +262,23 @@ Bounds3 stepWorldBounds(const Entity &entity, size_t step) {
       entity.shape);
 }
 
-bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit) {
+bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, double tMax,
+                    Hit &hit) {
   return std::visit(
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, Csg>) {
-          return intersectCsg(s, entityIndex, worldRay, hit);
+          return intersectCsg(s, entityIndex, bounded(worldRay, tMax), hit);
         } else if constexpr (kAnalyticShape<S>) {
           if (!entity.motion) [[likely]]
             return intersectAnalytic(
                 s, entity.worldFromObject.inverseMatrix(),
                 [&]() -> const Transform & { return entity.worldFromObject; }, entityIndex,
-                worldRay, hit);
+                worldRay, tMax, hit);
           // Moving: where it is at the ray's time.
           return intersectAnalytic(
               s, entity.motion->inverseMatrixAt(worldRay.time),
-              [&] { return entity.motion->at(worldRay.time); }, entityIndex, worldRay, hit);
+              [&] { return entity.motion->at(worldRay.time); }, entityIndex, worldRay, tMax, hit);
         } else {
           return false;
         }
@@ -264,17 +286,17 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
       entity.shape);
 }
 
-bool occludedShape(const Entity &entity, const Ray &worldRay) {
+bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax) {
   return std::visit(
       [&](const auto &s) {
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, Csg>) {
-          return occludedCsg(s, worldRay);
+          return occludedCsg(s, bounded(worldRay, tMax));
         } else if constexpr (kAnalyticShape<S>) {
-          Ray ray = objectRayAt(entity, worldRay);
-          reorigin(ray, s.originShift(ray));
-          ObjectHit oh;
-          return s.intersect(ray, oh);
+          if (!entity.motion) [[likely]]
+            return occludedAnalytic(s, entity.worldFromObject.inverseMatrix(), worldRay, tMax);
+          return occludedAnalytic(s, entity.motion->inverseMatrixAt(worldRay.time), worldRay,
+                                  tMax);
         } else {
           return false;
         }
@@ -307,7 +329,7 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
             Ray ray = objectRay(xf.inverseMatrix(), worldRay);
             const double shift = s.originShift(ray);
             reorigin(ray, shift);
-            return fillAnalytic(s, xf, entityIndex, worldRay, ray, shift,
+            return fillAnalytic(s, xf, entityIndex, worldRay, worldRay.tMax, ray, shift,
                                 ObjectHit{tObject, part}, hit);
           };
           if (!entity.motion) return fill(entity.worldFromObject);

@@ -24,13 +24,26 @@ Bounds3 shapeWorldBounds(const Entity &entity, double t0 = 0, double t1 = 1);
 bool shapeBounded(const Entity &entity);
 
 /// Closest intersection of a world-space ray with an analytic entity, with t
-/// in (ray.tMin, ray.tMax), the entity placed where it is at the ray's time.
+/// in (ray.tMin, tMax), the entity placed where it is at the ray's time.
 /// On success fills every field of `hit` (entity = entityIndex) and returns
-/// true.
-bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, Hit &hit);
+/// true. The bound is its own argument (usually below ray.tMax: the nearest
+/// hit so far) so that callers need not copy the ray to lower it: the
+/// test's reads of a copy just written in other pieces stalled on store
+/// forwarding.
+bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, double tMax,
+                    Hit &hit);
 
-/// Any intersection with t in (ray.tMin, ray.tMax).
-bool occludedShape(const Entity &entity, const Ray &worldRay);
+/// Any intersection with t in (ray.tMin, tMax).
+bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax);
+
+/// The two above within the ray's own bounds.
+inline bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
+                           Hit &hit) {
+  return intersectShape(entity, entityIndex, worldRay, worldRay.tMax, hit);
+}
+inline bool occludedShape(const Entity &entity, const Ray &worldRay) {
+  return occludedShape(entity, worldRay, worldRay.tMax);
+}
 
 /// The stretches of the whole line of `worldRay` inside a solid primitive
 /// (a CSG leaf; 0 for Mesh and CSG), in order: parameters of the entity's

@@ -180,15 +180,15 @@ struct EmbreeCallbacks {
     RTCHitN *hits = RTCRayHitN_HitN(args->rayhit, n);
     for (unsigned i = 0; i < n; ++i) {
       if (!args->valid[i]) continue;
-      unsigned id = RTCRayN_id(rays, n, i);
-      Ray r = ctx->rays[id];
+      const unsigned id = RTCRayN_id(rays, n, i);
+      const Ray &r = ctx->rays[id];
       // Closer than both the best analytic hit (double) and whatever
       // Embree has accepted since (a triangle's float t).
-      r.tMax = std::min(std::min(r.tMax, ctx->bestT[id]),
-                        static_cast<double>(RTCRayN_tfar(rays, n, i)));
-      if (moving && moving->misses(shape.index, r, r.tMax)) continue;
+      const double tMax = std::min(std::min(r.tMax, ctx->bestT[id]),
+                                   static_cast<double>(RTCRayN_tfar(rays, n, i)));
+      if (moving && moving->misses(shape.index, r, tMax)) continue;
       Hit h;
-      if (!intersectShape(*shape.entity, shape.index, r, h)) continue;
+      if (!intersectShape(*shape.entity, shape.index, r, tMax, h)) continue;
       ctx->bestT[id] = h.t;
       ctx->hits[id] = h;
       RTCRayN_tfar(rays, n, i) = roundUp(h.t);
@@ -289,10 +289,9 @@ struct EmbreeCallbacks {
                                  const EmbreeAccelerator::ShapeRef &shape,
                                  const MovingBoxes *moving) {
     occludedLanes(args, [&shape, moving](const Ray &ray, float tfar) {
-      Ray r = ray;
-      r.tMax = std::min(r.tMax, static_cast<double>(tfar));
-      if (moving && moving->misses(shape.index, r, r.tMax)) return false;
-      return occludedShape(*shape.entity, r);
+      const double tMax = std::min(ray.tMax, static_cast<double>(tfar));
+      if (moving && moving->misses(shape.index, ray, tMax)) return false;
+      return occludedShape(*shape.entity, ray, tMax);
     });
   }
 

@@ -331,10 +331,8 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
     const Entity &entity = scene_.entities[inst.entity];
     if (moving_.misses(inst.entity, ray, tBest)) return false;
     if (inst.meshTree == kAnalytic) {
-      Ray bounded = ray;
-      bounded.tMax = tBest;
       Hit candidate;
-      if (!intersectShape(entity, inst.entity, bounded, candidate) || !(candidate.t < tBest))
+      if (!intersectShape(entity, inst.entity, ray, tBest, candidate) || !(candidate.t < tBest))
         return false;
       hit = candidate;
       tBest = candidate.t;
@@ -420,13 +418,11 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       const Entity &entity = scene_.entities[inst.entity];
       for (; in != 0; in &= in - 1) {
         const int i = std::countr_zero(in);
-        Ray bounded = rays[i];
-        bounded.tMax = tBest[i];
         if (AnyHit) {
-          if (!occludedShape(entity, bounded)) continue;
+          if (!occludedShape(entity, rays[i], tBest[i])) continue;
         } else {
           Hit candidate;
-          if (!intersectShape(entity, inst.entity, bounded, candidate) ||
+          if (!intersectShape(entity, inst.entity, rays[i], tBest[i], candidate) ||
               !(candidate.t < tBest[i]))
             continue;
           finds->shapeHits[i] = candidate;

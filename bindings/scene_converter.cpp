@@ -130,6 +130,8 @@ private:
     out.shape = e.shape;
     out.worldFromObject = transform(e.transform, out.loc, shapeName(e.shape));
     out.texture = texture(e.texture);
+    out.readsUv = !std::holds_alternative<ColorPigment>(
+        out_.pigments[out_.textures[out.texture].pigment].pattern);
     checkEmitter(out);
     return out;
   }

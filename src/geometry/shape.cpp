@@ -95,12 +95,24 @@ double refineHitT(const S &shape, const Transform &xf, const Ray &worldRay, doub
   return std::isfinite(refined) ? refined : t;
 }
 
+/// The surface at an object-space hit, without (u, v) where the shape can
+/// leave them out and `uv` is false.
+template <class S>
+ObjectSurface surfaceOf(const S &shape, const Ray &ray, const ObjectHit &oh, bool uv) {
+  if constexpr (requires { shape.surface(ray, oh, uv); })
+    return shape.surface(ray, oh, uv);
+  else
+    return shape.surface(ray, oh);
+}
+
 /// The hit of an object-space test's result `oh` on `ray` (the shifted
-/// object ray of `worldRay`, re-origined by `shift`), before `tMax`.
+/// object ray of `worldRay`, re-origined by `shift`), before `tMax`; its
+/// (u, v) as Entity::readsUv says (`uv`).
 template <class S>
 bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, const Ray &worldRay,
-                  double tMax, const Ray &ray, double shift, const ObjectHit &oh, Hit &hit) {
-  ObjectSurface s = shape.surface(ray, oh);
+                  double tMax, bool uv, const Ray &ray, double shift, const ObjectHit &oh,
+                  Hit &hit) {
+  ObjectSurface s = surfaceOf(shape, ray, oh, uv);
   hit.t = oh.t + shift;
   hit.time = worldRay.time;
   hit.entity = entityIndex;
@@ -129,14 +141,16 @@ bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, con
 /// for a hit: a moving entity's is computed then, not for every miss.
 template <class S, class Placement>
 bool intersectAnalytic(const S &shape, const Mat4 &inverse, Placement placement,
-                       uint32_t entityIndex, const Ray &worldRay, double tMax, Hit &hit) {
+                       const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
+                       double tMax, Hit &hit) {
   Ray ray = objectRay(inverse, worldRay);
   ray.tMax = tMax;
   const double shift = shape.originShift(ray);
   reorigin(ray, shift);
   ObjectHit oh;
   if (!shape.intersect(ray, oh)) return false;
-  return fillAnalytic(shape, placement(), entityIndex, worldRay, tMax, ray, shift, oh, hit);
+  return fillAnalytic(shape, placement(), entityIndex, worldRay, tMax, entity.readsUv, ray, shift,
+                      oh, hit);
 }
 
 /// Any hit of the shape before `tMax`, the ray taken into object space by
@@ -273,12 +287,13 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
           if (!entity.motion) [[likely]]
             return intersectAnalytic(
                 s, entity.worldFromObject.inverseMatrix(),
-                [&]() -> const Transform & { return entity.worldFromObject; }, entityIndex,
-                worldRay, tMax, hit);
+                [&]() -> const Transform & { return entity.worldFromObject; }, entity,
+                entityIndex, worldRay, tMax, hit);
           // Moving: where it is at the ray's time.
           return intersectAnalytic(
               s, entity.motion->inverseMatrixAt(worldRay.time),
-              [&] { return entity.motion->at(worldRay.time); }, entityIndex, worldRay, tMax, hit);
+              [&] { return entity.motion->at(worldRay.time); }, entity, entityIndex, worldRay,
+              tMax, hit);
         } else {
           return false;
         }
@@ -329,8 +344,8 @@ bool fillShapeHit(const Entity &entity, uint32_t entityIndex, const Ray &worldRa
             Ray ray = objectRay(xf.inverseMatrix(), worldRay);
             const double shift = s.originShift(ray);
             reorigin(ray, shift);
-            return fillAnalytic(s, xf, entityIndex, worldRay, worldRay.tMax, ray, shift,
-                                ObjectHit{tObject, part}, hit);
+            return fillAnalytic(s, xf, entityIndex, worldRay, worldRay.tMax, entity.readsUv, ray,
+                                shift, ObjectHit{tObject, part}, hit);
           };
           if (!entity.motion) return fill(entity.worldFromObject);
           return fill(entity.motion->at(worldRay.time)); // a moving leaf where it is then

@@ -115,6 +115,10 @@ struct Entity {
   Shape shape;
   Transform worldFromObject;
   bool smooth = false; ///< Mesh: interpolate vertex normals
+  /// Whether its texture may read the surface's (u, v): false for a plain
+  /// colour, when an analytic shape's hit may leave them out (a sphere's
+  /// angle around its axis costs an atan2).
+  bool readsUv = true;
   uint32_t texture = 0; ///< index into Scene::textures
   MeshDataPtr mesh;     ///< Mesh only
   SourceLocation loc;

@@ -264,5 +264,22 @@ TEST_F(SceneConverterTest, PigmentsNestedTooDeepAreAnErrorNotAStackOverflow) {
   EXPECT_EQ(convertGlobal("t").pigments.size(), 64u + 2u);
 }
 
+TEST_F(SceneConverterTest, OnlyEntitiesOfAPlainColourSkipTheirUv) {
+  ASSERT_EQ(runLua("s = Scene()\n"
+                   "s:add_entity(Sphere())\n"
+                   "s:add_entity(Sphere() { texture = Texture() { pigment = ColorPigment(red) } })\n"
+                   "s:add_entity(Torus() { texture = Texture() {\n"
+                   "  pigment = CheckerPigment2D() { pigment1 = ColorPigment(red) } } })\n"
+                   "s:add_entity(Cone() { texture = Texture() {\n"
+                   "  pigment = CheckerPigment3D() { pigment1 = ColorPigment(red) } } })"),
+            "");
+  Scene scene = convertGlobal("s");
+  ASSERT_EQ(scene.entities.size(), 4u);
+  EXPECT_FALSE(scene.entities[0].readsUv); // the default texture: white
+  EXPECT_FALSE(scene.entities[1].readsUv);
+  EXPECT_TRUE(scene.entities[2].readsUv);
+  EXPECT_TRUE(scene.entities[3].readsUv); // any pattern may be given a (u, v) map
+}
+
 } // namespace
 } // namespace lray::lua

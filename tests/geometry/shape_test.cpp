@@ -452,5 +452,26 @@ TEST(Plane, InWorldIsTheObjectPlanePlaced) {
   EXPECT_GT(dot(p.normal, t.applyPoint({0.5, 1, 0.25})), p.offset);
 }
 
+// An entity whose texture reads no (u, v) (Entity::readsUv false) gets the
+// same hit without them: the same t, point and normal.
+TEST(Shapes, WithoutUvTheSameHit) {
+  for (ShapeKind kind :
+       {ShapeKind::Sphere, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Torus}) {
+    Entity with = makeEntity(kind, Transform::translate({0.1, 0.2, 0.3}));
+    Entity without = with;
+    without.readsUv = false;
+    for (const Ray &r : {ray({1.0, 0.25, -5}, {0, 0, 1}), ray({5, 0.25, 0.2}, {-1, 0.01, 0})}) {
+      Hit a, b;
+      ASSERT_TRUE(intersectShape(with, 0, r, a)) << shapeName(with.shape);
+      ASSERT_TRUE(intersectShape(without, 0, r, b)) << shapeName(with.shape);
+      EXPECT_EQ(a.t, b.t);
+      EXPECT_EQ(a.p, b.p);
+      EXPECT_EQ(a.ng, b.ng);
+      EXPECT_EQ(a.pObject, b.pObject);
+      EXPECT_NE(a.u, b.u) << shapeName(with.shape); // the test could tell
+    }
+  }
+}
+
 } // namespace
 } // namespace lray

@@ -148,7 +148,7 @@ int Cone::spans(const Ray &ray, Span *out) const {
   return count;
 }
 
-ObjectSurface Cone::surface(const Ray &ray, const ObjectHit &hit) const {
+ObjectSurface Cone::surface(const Ray &ray, const ObjectHit &hit, bool uv) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   if (hit.part == 0) {
@@ -161,7 +161,7 @@ ObjectSurface Cone::surface(const Ray &ray, const ObjectHit &hit) const {
       p.z *= k / r;
     }
     s.n = k > 0 && r > 0 ? Vec3(p.x, k, p.z) : Vec3(0, 1, 0);
-    s.u = turnFraction(p.x, p.z);
+    if (uv) s.u = turnFraction(p.x, p.z);
     s.v = p.y;
   } else {
     p.y = 0;

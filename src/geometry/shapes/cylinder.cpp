@@ -114,7 +114,7 @@ int Cylinder::spans(const Ray &ray, Span *out) const {
   return 1;
 }
 
-ObjectSurface Cylinder::surface(const Ray &ray, const ObjectHit &hit) const {
+ObjectSurface Cylinder::surface(const Ray &ray, const ObjectHit &hit, bool uv) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   if (hit.part == 0) {
@@ -125,7 +125,7 @@ ObjectSurface Cylinder::surface(const Ray &ray, const ObjectHit &hit) const {
     }
     p.y = std::clamp(p.y, 0.0, 1.0);
     s.n = {p.x, 0, p.z};
-    s.u = turnFraction(p.x, p.z);
+    if (uv) s.u = turnFraction(p.x, p.z);
     s.v = p.y;
   } else {
     p.y = hit.part == 1 ? 0.0 : 1.0;

@@ -29,7 +29,8 @@ struct Cylinder {
   /// kMaxSpans, in order. Caps included even when `open`: CSG refuses open
   /// ones.
   int spans(const Ray &ray, Span *out) const;
-  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  /// The hit's surface; its (u, v) only when `uv` (Entity::readsUv).
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit, bool uv = true) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };
 

@@ -64,7 +64,7 @@ int Sphere::spans(const Ray &ray, Span *out) const {
   return 1;
 }
 
-ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit) const {
+ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit, bool uv) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   double len = length(p);
@@ -73,6 +73,7 @@ ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit) const {
   else p = {0, 1, 0};
   s.p = p;
   s.n = p;
+  if (!uv) return s;
   s.u = (std::atan2(p.z, p.x) + kPi) / (2 * kPi);
   s.v = (p.y + 1) / 2;
   return s;

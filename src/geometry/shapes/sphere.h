@@ -21,7 +21,8 @@ struct Sphere {
   /// Where the whole line of `ray` is inside the solid (CSG); at most
   /// kMaxSpans, in order.
   int spans(const Ray &ray, Span *out) const;
-  ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
+  /// The hit's surface; its (u, v) only when `uv` (Entity::readsUv).
+  ObjectSurface surface(const Ray &ray, const ObjectHit &hit, bool uv = true) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };
 

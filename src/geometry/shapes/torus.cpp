@@ -234,7 +234,7 @@ int Torus::spans(const Ray &ray, Span *out) const {
   return kept;
 }
 
-ObjectSurface Torus::surface(const Ray &ray, const ObjectHit &hit) const {
+ObjectSurface Torus::surface(const Ray &ray, const ObjectHit &hit, bool uv) const {
   ObjectSurface s;
   Vec3 p = ray.at(hit.t);
   double rho = std::sqrt(p.x * p.x + p.z * p.z);
@@ -246,6 +246,7 @@ ObjectSurface Torus::surface(const Ray &ray, const ObjectHit &hit) const {
   n = len > 0 ? n / len : Vec3(q.x / major, 0, q.z / major);
   s.p = q + n * minor;
   s.n = n;
+  if (!uv) return s;
   s.u = turnFraction(s.p.x, s.p.z);
   double radial = n.x * q.x / major + n.z * q.z / major; // n along the outward radius
   double a = std::atan2(n.y, radial);

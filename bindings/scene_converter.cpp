@@ -129,11 +129,17 @@ private:
     out.loc = ctx_.resolve(e.loc);
     out.shape = e.shape;
     out.worldFromObject = transform(e.transform, out.loc, shapeName(e.shape));
-    out.texture = texture(e.texture);
-    out.readsUv = !std::holds_alternative<ColorPigment>(
-        out_.pigments[out_.textures[out.texture].pigment].pattern);
+    setTexture(out, texture(e.texture));
     checkEmitter(out);
     return out;
+  }
+
+  /// Gives `e` texture `t`, and says whether that texture may read the
+  /// surface's (u, v): a plain colour reads nothing of the hit.
+  void setTexture(Entity &e, uint32_t t) const {
+    e.texture = t;
+    e.readsUv =
+        !std::holds_alternative<ColorPigment>(out_.pigments[out_.textures[t].pigment].pattern);
   }
 
   /// Emission needs a finite area to come from (lua/README.md, Finish).
@@ -179,7 +185,7 @@ private:
                                     attribute + " one " + noInside(attribute));
     out.worldFromObject = place(parentWorld, e.transform, out.loc, shapeName(out.shape));
     inheritsTexture = !e.texture && inherited.set;
-    if (inheritsTexture) out.texture = texture(inherited.texture);
+    if (inheritsTexture) setTexture(out, texture(inherited.texture));
     checkEmitter(out);
     return out;
   }
@@ -233,7 +239,7 @@ private:
     Entity out;
     out.loc = loc;
     out.worldFromObject = world;
-    out.texture = tree->leaves.front().entity.texture;
+    setTexture(out, tree->leaves.front().entity.texture);
     out.shape = Csg{std::move(tree)};
     return out;
   }
@@ -292,7 +298,7 @@ private:
     out.shape = Mesh{};
     out.worldFromObject = transform(m.transform, out.loc, "Mesh");
     out.smooth = m.smooth;
-    out.texture = texture(m.texture);
+    setTexture(out, texture(m.texture));
     const MeshGeometry &g = *m.geometry;
     chargeMeshData(g, out.loc);
     if (!g.built) {

@@ -1,5 +1,6 @@
 // Conversion of the Lua-side objects into the plain scene model.
 #include "lua_fixture.h"
+#include "geometry/csg_tree.h"
 #include "shape_params.h"
 
 namespace lray::lua {
@@ -279,6 +280,22 @@ TEST_F(SceneConverterTest, OnlyEntitiesOfAPlainColourSkipTheirUv) {
   EXPECT_FALSE(scene.entities[1].readsUv);
   EXPECT_TRUE(scene.entities[2].readsUv);
   EXPECT_TRUE(scene.entities[3].readsUv); // any pattern may be given a (u, v) map
+}
+
+TEST_F(SceneConverterTest, ACsgLeafReadsTheUvOfTheTextureItInherits) {
+  ASSERT_EQ(runLua("s = Scene()\n"
+                   "s:add_entity(Difference { Sphere(), Cube() } { texture = Texture() {\n"
+                   "  pigment = CheckerPigment2D() { pigment1 = ColorPigment(red) } } })\n"
+                   "s:add_entity(Union { Sphere() } { texture = Texture() {\n"
+                   "  pigment = CheckerPigment2D() { pigment1 = ColorPigment(red) } } })"),
+            "");
+  Scene scene = convertGlobal("s");
+  ASSERT_EQ(scene.entities.size(), 2u);
+  for (const Entity &e : scene.entities) {
+    const auto *csg = std::get_if<Csg>(&e.shape);
+    ASSERT_TRUE(csg && csg->tree);
+    for (const auto &leaf : csg->tree->leaves) EXPECT_TRUE(leaf.entity.readsUv);
+  }
 }
 
 } // namespace

@@ -14,52 +14,10 @@ Bounds3 Sphere::worldBounds(const Mat4 &mat) const {
   return {c - e, c + e};
 }
 
-namespace {
-
-/// The roots t0 <= t1 of the ray's line with the unit sphere; false when the
-/// line misses it.
-bool sphereRoots(const Ray &ray, double &t0, double &t1) {
-  const Vec3 &o = ray.o, &d = ray.d;
-  double a = dot(d, d);
-  if (!(a > 0)) return false;
-  double h = dot(o, d);
-  const double oo = dot(o, o);
-  // Most tested lines miss: a |o|^2 - h^2 (a times the squared distance of
-  // the line from the centre) settles them without the division below. Its
-  // rounding, at most about 20 u |o|^2 a (u = 2^-53), and the test below's,
-  // are far inside the margin, so this only drops lines that test drops.
-  if (oo * a - h * h > a * (1 + 1e-12 * (1 + oo))) return false;
-  // The reduced discriminant h^2 - a c equals a (1 - |v|^2), v = the ray's
-  // closest point to the centre; this form does not cancel for distant or
-  // grazing rays (pbrt-v4's sphere test).
-  Vec3 v = o - d * (h / a);
-  double disc = a * (1 - dot(v, v));
-  if (disc < 0) return false;
-  double c = oo - 1;
-  quadraticRoots(a, h, c, disc, t0, t1);
-  return true;
-}
-
-} // namespace
-
-bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
-  double t0, t1;
-  if (!sphereRoots(ray, t0, t1)) return false;
-  if (inOpenRange(ray, t0)) {
-    hit.t = t0;
-  } else if (inOpenRange(ray, t1)) {
-    hit.t = t1;
-  } else {
-    return false;
-  }
-  hit.part = 0;
-  return true;
-}
-
 int Sphere::spans(const Ray &ray, Span *out) const {
   double t0, t1;
   // A tangent line (t0 = t1) touches without entering.
-  if (!sphereRoots(ray, t0, t1) || !(t0 < t1)) return 0;
+  if (!sphere_detail::roots(ray, t0, t1) || !(t0 < t1)) return 0;
   out[0] = {t0, t1, 0, 0};
   return 1;
 }

@@ -23,63 +23,11 @@ Bounds3 Cube::worldBounds(const Mat4 &mat) const {
   return b;
 }
 
-namespace {
-
-/// The line of `ray` inside the three slabs: [tNear, tFar] entering through
-/// face nearPart and leaving through farPart; false when it misses them.
-bool slabInterval(const Ray &ray, double &tNear, double &tFar, int &nearPart, int &farPart) {
-  tNear = -std::numeric_limits<double>::infinity();
-  tFar = std::numeric_limits<double>::infinity();
-  nearPart = farPart = -1;
-  for (int axis = 0; axis < 3; ++axis) {
-    double o = ray.o[axis], d = ray.d[axis];
-    if (d == 0) {
-      // Parallel to this slab: inside it (boundary included) or a miss.
-      if (o < -0.5 || o > 0.5) return false;
-      continue;
-    }
-    double tLo = (-0.5 - o) / d, tHi = (0.5 - o) / d;
-    int loPart = 2 * axis, hiPart = 2 * axis + 1;
-    if (tLo > tHi) {
-      std::swap(tLo, tHi);
-      std::swap(loPart, hiPart);
-    }
-    if (tLo > tNear) {
-      tNear = tLo;
-      nearPart = loPart;
-    }
-    if (tHi < tFar) {
-      tFar = tHi;
-      farPart = hiPart;
-    }
-  }
-  return !(tNear > tFar) && nearPart >= 0;
-}
-
-} // namespace
-
-bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
-  double tNear, tFar;
-  int nearPart, farPart;
-  if (!slabInterval(ray, tNear, tFar, nearPart, farPart)) return false;
-  if (inOpenRange(ray, tNear)) {
-    hit.t = tNear;
-    hit.part = nearPart;
-    return true;
-  }
-  if (inOpenRange(ray, tFar)) {
-    hit.t = tFar;
-    hit.part = farPart;
-    return true;
-  }
-  return false;
-}
-
 int Cube::spans(const Ray &ray, Span *out) const {
   double tNear, tFar;
   int nearPart, farPart;
   // A line along an edge or face (tNear = tFar) does not enter.
-  if (!slabInterval(ray, tNear, tFar, nearPart, farPart) || !(tNear < tFar)) return 0;
+  if (!cube_detail::slabInterval(ray, tNear, tFar, nearPart, farPart) || !(tNear < tFar)) return 0;
   out[0] = {tNear, tFar, nearPart, farPart};
   return 1;
 }

@@ -7,6 +7,9 @@
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
 
+#include <limits>
+#include <utility>
+
 namespace lray {
 
 struct Cube {
@@ -16,6 +19,7 @@ struct Cube {
 
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;
   double originShift(const Ray &ray) const { return closestApproachShift(ray, {}, kFarOrigin); }
+  /// Inline, as Sphere's: shadow rays make many tests.
   bool intersect(const Ray &ray, ObjectHit &hit) const;
   /// Where the whole line of `ray` is inside the solid (CSG); at most
   /// kMaxSpans, in order.
@@ -23,5 +27,57 @@ struct Cube {
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };
+
+namespace cube_detail {
+
+/// The line of `ray` inside the three slabs: [tNear, tFar] entering through
+/// face nearPart and leaving through farPart; false when it misses them.
+inline bool slabInterval(const Ray &ray, double &tNear, double &tFar, int &nearPart, int &farPart) {
+  tNear = -std::numeric_limits<double>::infinity();
+  tFar = std::numeric_limits<double>::infinity();
+  nearPart = farPart = -1;
+  for (int axis = 0; axis < 3; ++axis) {
+    double o = ray.o[axis], d = ray.d[axis];
+    if (d == 0) {
+      // Parallel to this slab: inside it (boundary included) or a miss.
+      if (o < -0.5 || o > 0.5) return false;
+      continue;
+    }
+    double tLo = (-0.5 - o) / d, tHi = (0.5 - o) / d;
+    int loPart = 2 * axis, hiPart = 2 * axis + 1;
+    if (tLo > tHi) {
+      std::swap(tLo, tHi);
+      std::swap(loPart, hiPart);
+    }
+    if (tLo > tNear) {
+      tNear = tLo;
+      nearPart = loPart;
+    }
+    if (tHi < tFar) {
+      tFar = tHi;
+      farPart = hiPart;
+    }
+  }
+  return !(tNear > tFar) && nearPart >= 0;
+}
+
+} // namespace cube_detail
+
+inline bool Cube::intersect(const Ray &ray, ObjectHit &hit) const {
+  double tNear, tFar;
+  int nearPart, farPart;
+  if (!cube_detail::slabInterval(ray, tNear, tFar, nearPart, farPart)) return false;
+  if (inOpenRange(ray, tNear)) {
+    hit.t = tNear;
+    hit.part = nearPart;
+    return true;
+  }
+  if (inOpenRange(ray, tFar)) {
+    hit.t = tFar;
+    hit.part = farPart;
+    return true;
+  }
+  return false;
+}
 
 } // namespace lray

@@ -8,7 +8,6 @@
 #include "math/transform.h"
 
 #include <limits>
-#include <utility>
 
 namespace lray {
 
@@ -43,20 +42,8 @@ inline bool slabInterval(const Ray &ray, double &tNear, double &tFar, int &nearP
       if (o < -0.5 || o > 0.5) return false;
       continue;
     }
-    double tLo = (-0.5 - o) / d, tHi = (0.5 - o) / d;
-    int loPart = 2 * axis, hiPart = 2 * axis + 1;
-    if (tLo > tHi) {
-      std::swap(tLo, tHi);
-      std::swap(loPart, hiPart);
-    }
-    if (tLo > tNear) {
-      tNear = tLo;
-      nearPart = loPart;
-    }
-    if (tHi < tFar) {
-      tFar = tHi;
-      farPart = hiPart;
-    }
+    clipToSlab((-0.5 - o) / d, (0.5 - o) / d, 2 * axis, 2 * axis + 1, tNear, tFar, nearPart,
+               farPart);
   }
   return !(tNear > tFar) && nearPart >= 0;
 }

@@ -92,20 +92,7 @@ int Cylinder::spans(const Ray &ray, Span *out) const {
   }
   // ... and in the slab 0 <= y <= 1 between the caps (intersectCap's t).
   if (d.y != 0) {
-    double t0 = (0.0 - o.y) / d.y, t1 = (1.0 - o.y) / d.y;
-    int p0 = 1, p1 = 2;
-    if (t0 > t1) {
-      std::swap(t0, t1);
-      std::swap(p0, p1);
-    }
-    if (t0 > lo) {
-      lo = t0;
-      loPart = p0;
-    }
-    if (t1 < hi) {
-      hi = t1;
-      hiPart = p1;
-    }
+    clipToSlab((0.0 - o.y) / d.y, (1.0 - o.y) / d.y, 1, 2, lo, hi, loPart, hiPart);
   } else if (!(o.y > 0 && o.y < 1)) {
     return 0;
   }

@@ -67,6 +67,25 @@ inline double turnFraction(double x, double z) {
 
 inline bool inOpenRange(const Ray &ray, double t) { return t > ray.tMin && t < ray.tMax; }
 
+/// Narrows a line's interval [lo, hi] (entered through part loPart, left
+/// through hiPart) to its crossing [t0, t1] of a slab between two planes,
+/// parts p0 and p1 (t0 and t1 in either order).
+inline void clipToSlab(double t0, double t1, int p0, int p1, double &lo, double &hi, int &loPart,
+                       int &hiPart) {
+  if (t0 > t1) {
+    std::swap(t0, t1);
+    std::swap(p0, p1);
+  }
+  if (t0 > lo) {
+    lo = t0;
+    loPart = p0;
+  }
+  if (t1 < hi) {
+    hi = t1;
+    hiPart = p1;
+  }
+}
+
 /// Beyond this distance (object units) from a unit-sized shape's centre a
 /// ray origin makes the quadric coefficients cancel (the cone's
 /// o.o - (1 - o_y)^2 loses everything at |o| ~ 1e6).

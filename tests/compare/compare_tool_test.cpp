@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -103,7 +104,8 @@ protected:
   void SetUp() override {
     dir = fs::temp_directory_path() /
           ("lray_compare_tool_" +
-           std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+           std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     write(dir / "scene.lua", scene(1));
@@ -112,6 +114,7 @@ protected:
     write(dir / "endless.lua", "while true do end\n");
     write(dir / "suite.toml", kSuite);
   }
+  void TearDown() override { fs::remove_all(dir); }
   fs::path dir;
 };
 

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 using namespace lray;
 using namespace lray::compare;
@@ -45,7 +46,10 @@ std::string writeTexture(const fs::path &dir, int shift) {
 }
 
 CompareImage render(const Variant &v, uint32_t seed) {
-  const fs::path dir = fs::temp_directory_path() / "lray_render_compare_test";
+  // Per process: two test runs at once (a CI clone beside a checkout) must
+  // not write each other's scene.
+  const fs::path dir =
+      fs::temp_directory_path() / ("lray_render_compare_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string texture = writeTexture(dir, v.shift);
   const std::string source = fmt::format(R"lua(
@@ -95,6 +99,7 @@ end
       im.variance.insert(im.variance.end(), {float(var.r), float(var.g), float(var.b)});
       im.samples.push_back(static_cast<float>(film.sampleCount(x, y)));
     }
+  fs::remove_all(dir);
   return im;
 }
 
@@ -140,7 +145,8 @@ TEST(RenderCompare, ANanPixelFails) {
 TEST(RenderCompare, FilmVarianceIsNothingWhereSamplesAgreeAndSomethingWhereTheyDiffer) {
   // In both sampling modes: about 0 where the samples agree (the
   // background), positive on the silhouette and in the penumbra.
-  const fs::path dir = fs::temp_directory_path() / "lray_film_variance_test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("lray_film_variance_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "scene.lua") << R"lua(
 scene_info = SceneInfo() { image_width = 24, image_height = 16, samples = 4 }
@@ -179,4 +185,5 @@ end
       edge += va > 1e-4 && vb > 1e-4;
     }
   EXPECT_GT(edge, 10);
+  fs::remove_all(dir);
 }

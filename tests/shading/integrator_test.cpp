@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <unistd.h>
 
 namespace lray {
 namespace {
@@ -532,7 +533,8 @@ TEST_P(IntegratorTest, ImagePigmentThroughTheCache) {
   // A 2x1 image: left texel (0.2, 0.4, 0.6) as 8-bit, right black.
   std::string path =
       (std::filesystem::temp_directory_path() /
-       ("lray_integrator_image_test_" + std::to_string(GetParam()) + ".png"))
+       ("lray_integrator_image_test_" + std::to_string(GetParam()) + "_" +
+        std::to_string(::getpid()) + ".png"))
           .string();
   {
     const uint8_t px[] = {51, 102, 153, 0, 0, 0};

@@ -36,7 +36,7 @@ double SampleBuffer::error(size_t i) const {
   return pixelError({s[0], s[1], s[2]}, {s[3], s[4], s[5]}, count_[i]);
 }
 
-double SampleBuffer::centreContrast(size_t i) const {
+double SampleBuffer::centreContrast(size_t i, double enough) const {
   const int x = static_cast<int>(i % static_cast<size_t>(width_));
   const int y = static_cast<int>(i / static_cast<size_t>(width_));
   const float *s = &sums_[i * 6];
@@ -51,8 +51,10 @@ double SampleBuffer::centreContrast(size_t i) const {
       const double m = count_[j];
       const Color d(t[0] / m, t[1] / m, t[2] / m);
       const double difference = std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b);
+      if (difference == 0) continue; // most of a frame: no edge, and no square root
       const double brightness = std::max(0.0, (c.r + c.g + c.b + d.r + d.g + d.b) / 2);
       most = std::max(most, 0.5 * difference / (1e-4 + std::sqrt(brightness)));
+      if (most >= enough) return most;
     }
   return most;
 }
@@ -67,7 +69,7 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   for (uint32_t i : activeList_) {
     active_[i] = 0;
     if (count_[i] < maxSamples &&
-        (threshold <= 0 || (centreOnly_[i] ? centreContrast(i) : error(i)) >= threshold))
+        (threshold <= 0 || (centreOnly_[i] ? centreContrast(i, threshold) : error(i)) >= threshold))
       noisy.push_back(i);
   }
   activeList_.clear();

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace lray {
@@ -88,7 +89,10 @@ public:
   /// would have were its two samples its own and one of its eight
   /// neighbours' (half their difference, relative to the square root of
   /// their mean brightness), i.e. how much an edge between them shows.
-  double centreContrast(size_t i) const;
+  /// Returns as soon as a neighbour gives `enough` or more (the first such
+  /// estimate), which decides `centreContrast(i) >= enough` alike.
+  double centreContrast(size_t i,
+                        double enough = std::numeric_limits<double>::infinity()) const;
 
   /// After a pass that brought every active pixel to `target` samples:
   /// a pixel stays active for the next pass if it or one of its eight

@@ -434,6 +434,37 @@ TEST(SampleBuffer, AnUnconvergedPixelKeepsItsEightNeighboursActive) {
   EXPECT_EQ(buffer.updateActive(0.01, 4), 0u);
 }
 
+TEST(SampleBuffer, CentreContrastStopsAtTheFirstNeighbourThatIsEnough) {
+  // A 3 x 3 frame of centre samples: the middle pixel is grey, its
+  // neighbours black but for one white and one mid-grey one.
+  SampleBuffer buffer(3, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) buffer.setCentre(buffer.index(x, y), {0, 0, 0});
+  buffer.setCentre(buffer.index(1, 1), {0.25, 0.25, 0.25});
+  buffer.setCentre(buffer.index(2, 0), {0.3, 0.3, 0.3});
+  buffer.setCentre(buffer.index(0, 2), {1, 1, 1});
+  const size_t middle = buffer.index(1, 1);
+  const double most = buffer.centreContrast(middle);
+  // The largest estimate is against the white pixel: 0.5 * 2.25 / sqrt(1.875).
+  EXPECT_NEAR(most, 0.5 * 2.25 / (1e-4 + std::sqrt(1.875)), 1e-12);
+  // Against a black neighbour: 0.5 * 0.75 / sqrt(0.375), below the most.
+  const double black = 0.5 * 0.75 / (1e-4 + std::sqrt(0.375));
+  EXPECT_LT(black, most);
+  // With `enough` the answer decides `>= enough` as the whole search does,
+  // and returns the first estimate that reaches it.
+  for (double enough : {0.1, black, 0.7, most, most * 1.01, 5.0}) {
+    const double early = buffer.centreContrast(middle, enough);
+    EXPECT_EQ(early >= enough, most >= enough) << enough;
+    EXPECT_LE(early, most) << enough;
+  }
+  EXPECT_EQ(buffer.centreContrast(middle, 0.1), black); // (0, 0) comes first
+  // A flat neighbourhood shows no edge, however small `enough` is.
+  SampleBuffer flat(2, 2);
+  for (size_t i = 0; i < 4; ++i) flat.setCentre(i, {0.5, 0.5, 0.5});
+  EXPECT_EQ(flat.centreContrast(0), 0.0);
+  EXPECT_EQ(flat.centreContrast(0, 1e-9), 0.0);
+}
+
 TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {
   // Samples 1000 + small noise over 8 passes: summed naively in float, the
   // sum of squares would cancel away; about the pixel's first mean it does

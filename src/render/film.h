@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/color.h"
+#include "util/zeroed_vector.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -28,8 +29,8 @@ struct SamplingReport {
 class Film {
 public:
   Film(int width, int height)
-      : width_(width), height_(height), rgb_(pixels() * 3, 0.f), error_(pixels(), 0.f),
-        variance_(pixels() * 3, 0.f), samples_(pixels(), 0) {}
+      : width_(width), height_(height), rgb_(pixels() * 3), error_(pixels()),
+        variance_(pixels() * 3), samples_(pixels()) {}
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -44,7 +45,7 @@ public:
     const float *p = &rgb_[(static_cast<size_t>(y) * width_ + x) * 3];
     return {p[0], p[1], p[2]};
   }
-  const std::vector<float> &data() const { return rgb_; }
+  const ZeroedVector<float> &data() const { return rgb_; }
 
   /// The pixel's error estimate (0 with fewer than two samples).
   float error(int x, int y) const { return error_[static_cast<size_t>(y) * width_ + x]; }
@@ -53,7 +54,7 @@ public:
   void setSampleCount(int x, int y, uint32_t n) {
     samples_[static_cast<size_t>(y) * width_ + x] = n;
   }
-  const std::vector<float> &errorData() const { return error_; }
+  const ZeroedVector<float> &errorData() const { return error_; }
   /// The variance of the pixel's value (the mean of its samples) per
   /// channel: the samples' variance over their count (0 below two samples).
   /// lray-compare's noise-aware test reads it from the EXR (Variance.R/G/B).
@@ -87,10 +88,11 @@ public:
 
 private:
   int width_, height_;
-  std::vector<float> rgb_;
-  std::vector<float> error_;
-  std::vector<float> variance_;
-  std::vector<uint32_t> samples_;
+  // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
+  ZeroedVector<float> rgb_;
+  ZeroedVector<float> error_;
+  ZeroedVector<float> variance_;
+  ZeroedVector<uint32_t> samples_;
   std::vector<Aov> aov_;
 };
 

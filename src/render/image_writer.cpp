@@ -35,7 +35,7 @@ uint8_t quantize8(float value, bool srgb) {
 }
 
 std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
-  const std::vector<float> &src = film.data();
+  const auto &src = film.data();
   std::vector<uint8_t> out(src.size());
   std::transform(src.begin(), src.end(), out.begin(),
                  [srgb](float v) { return quantize8(v, srgb); });

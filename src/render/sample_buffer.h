@@ -109,15 +109,19 @@ public:
   void writeTo(Film &film) const;
 
 private:
+  /// Pixel i's mean colour (it has samples).
+  Color mean(size_t i) const;
+
   int width_, height_;
-  std::vector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
+  // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
+  ZeroedVector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
   /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift
-  std::vector<float> squares_;
-  std::vector<uint32_t> count_;
+  ZeroedVector<float> squares_;
+  ZeroedVector<uint32_t> count_;
   std::vector<uint8_t> active_;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels
   std::vector<uint8_t> inRegion_;
-  std::vector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
+  ZeroedVector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
 };
 
 /// The report's sample and error figures (samples, maxPixelSamples,

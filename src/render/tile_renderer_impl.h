@@ -5,6 +5,7 @@
 
 #include "math/random.h"
 #include "render/camera_rays.h"
+#include "render/flush_to_zero.h"
 #include "math/owen_sobol.h"
 #include "render/pixel_error.h"
 #include "render/sample_buffer.h"
@@ -20,15 +21,10 @@
 #include <atomic>
 #include <chrono>
 #include <optional>
-#include <xmmintrin.h>
 
 namespace lray {
 
 namespace tile_detail {
-
-// Denormals are flushed to zero on render threads: they cost 100x on x86 and
-// never change a visible value.
-inline void setFlushToZero() { _mm_setcsr(_mm_getcsr() | 0x8040); }
 
 constexpr int kTilePixels = kTileSize * kTileSize;
 

@@ -84,8 +84,10 @@ inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReve
 /// of the index, which maps every aligned block of 2^m indices onto an
 /// aligned block of 2^m Sobol points, so prefixes stay nets): without it,
 /// Sobol points 2k and 2k+1 always fall in opposite halves of the pixel,
-/// and the odd-numbered half of the error estimate would see only one side
-/// of an edge however many samples a pixel took. Always inlined: the tile
+/// and whatever a sample's parity chooses (a light share under spread
+/// sampling, say) would see only one side of an edge however many samples
+/// a pixel took.
+/// Always inlined: the tile
 /// loop calls it for each camera sample, and GCC stopped inlining it there
 /// when the code around it grew.
 [[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x,

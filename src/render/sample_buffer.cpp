@@ -13,7 +13,7 @@
 namespace lray {
 
 SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1)
-    : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 6),
+    : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 3),
       squares_(static_cast<size_t>(width) * height * 6),
       count_(static_cast<size_t>(width) * height),
       active_(static_cast<size_t>(width) * height, 1),
@@ -37,12 +37,20 @@ bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
 }
 
 double SampleBuffer::error(size_t i) const {
-  const float *s = &sums_[i * 6];
-  return pixelError({s[0], s[1], s[2]}, {s[3], s[4], s[5]}, count_[i]);
+  if (count_[i] < 2) return 0;
+  return pixelError(mean(i), variance(i));
+}
+
+Color SampleBuffer::variance(size_t i) const {
+  const float *s = &sums_[i * 3];
+  const float *q = &squares_[i * 6];
+  const uint32_t n = count_[i];
+  const Color shifted = Color(s[0], s[1], s[2]) - Color(q[3], q[4], q[5]) * n;
+  return varianceOfMean(shifted, {q[0], q[1], q[2]}, n);
 }
 
 Color SampleBuffer::mean(size_t i) const {
-  const float *s = &sums_[i * 6];
+  const float *s = &sums_[i * 3];
   // One sample (a centre) is its own mean: no division, the same value.
   if (count_[i] == 1) return {s[0], s[1], s[2]};
   const double n = count_[i];
@@ -114,13 +122,11 @@ void SampleBuffer::writeTo(Film &film) const {
     setFlushToZero();
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
-      const float *s = &sums_[i * 6];
       const uint32_t n = count_[i];
-      film.set(x, y, n ? Color(s[0], s[1], s[2]) / static_cast<double>(n) : Color());
-      film.setError(x, y, static_cast<float>(error(i)));
-      const float *q = &squares_[i * 6];
-      const Color shifted = Color(s[0], s[1], s[2]) - Color(q[3], q[4], q[5]) * n;
-      film.setVariance(x, y, varianceOfMean(shifted, {q[0], q[1], q[2]}, n));
+      const Color m = n ? mean(i) : Color(), v = variance(i);
+      film.set(x, y, m);
+      film.setError(x, y, static_cast<float>(n >= 2 ? pixelError(m, v) : 0));
+      film.setVariance(x, y, v);
       film.setSampleCount(x, y, n);
     }
   });

@@ -1,7 +1,7 @@
 // Pipeline: render. What adaptive sampling keeps per pixel between passes:
-// the sums of all samples and of the odd-numbered ones (for the error
-// estimate), of their squares (for the variance), the sample count, and
-// whether the pixel takes part in the next pass.
+// the sum of its samples, of their squares (for the variance of its mean,
+// which its error estimate rests on: render/pixel_error.h), the sample
+// count, and whether the pixel takes part in the next pass.
 #pragma once
 
 #include "math/color.h"
@@ -25,13 +25,12 @@ public:
   int height() const { return height_; }
   size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
 
-  /// Adds one pass's samples of pixel i: their sum, the sum of the
-  /// odd-numbered ones, of their squares, and how many (summed in double by
-  /// the caller, so the float sums here take one rounding per pass, not per
-  /// sample). The squares are kept about the pixel's first mean (`shift`),
-  /// so that the variance does not cancel away in float.
-  void add(size_t i, const Color &sum, const Color &oddSum, const Color &squares,
-           uint32_t samples) {
+  /// Adds one pass's samples of pixel i: their sum, the sum of their
+  /// squares, and how many (summed in double by the caller, so the float
+  /// sums here take one rounding per pass, not per sample). The squares are
+  /// kept about the pixel's first mean (`shift`), so that the variance does
+  /// not cancel away in float.
+  void add(size_t i, const Color &sum, const Color &squares, uint32_t samples) {
     float *q = &squares_[i * 6];
     if (count_[i] == 0 && samples > 0) {
       const Color first = sum / static_cast<double>(samples);
@@ -44,22 +43,18 @@ public:
     q[0] += static_cast<float>(squares.r - 2 * q[3] * sum.r + k * q[3] * q[3]);
     q[1] += static_cast<float>(squares.g - 2 * q[4] * sum.g + k * q[4] * q[4]);
     q[2] += static_cast<float>(squares.b - 2 * q[5] * sum.b + k * q[5] * q[5]);
-    float *s = &sums_[i * 6];
+    float *s = &sums_[i * 3];
     s[0] += static_cast<float>(sum.r);
     s[1] += static_cast<float>(sum.g);
     s[2] += static_cast<float>(sum.b);
-    s[3] += static_cast<float>(oddSum.r);
-    s[4] += static_cast<float>(oddSum.g);
-    s[5] += static_cast<float>(oddSum.b);
     count_[i] += samples;
   }
   /// The centre-first pass: pixel i's one sample, through its centre.
   void setCentre(size_t i, const Color &c) {
-    float *s = &sums_[i * 6];
+    float *s = &sums_[i * 3];
     s[0] = static_cast<float>(c.r);
     s[1] = static_cast<float>(c.g);
     s[2] = static_cast<float>(c.b);
-    s[3] = s[4] = s[5] = 0.f;
     float *q = &squares_[i * 6];
     q[0] = q[1] = q[2] = 0.f;
     q[3] = s[0];
@@ -73,7 +68,7 @@ public:
   /// whether it did.
   bool restart(size_t i) {
     if (!centreOnly_[i]) return false;
-    std::fill_n(&sums_[i * 6], 6, 0.f);
+    std::fill_n(&sums_[i * 3], 3, 0.f);
     std::fill_n(&squares_[i * 6], 6, 0.f);
     count_[i] = 0;
     centreOnly_[i] = 0;
@@ -84,11 +79,14 @@ public:
   /// Whether any pixel of the rectangle [x0,x1) x [y0,y1) is active.
   bool anyActive(int x0, int y0, int x1, int y1) const;
 
+  /// Pixel i's error estimate (render/pixel_error.h; 0 below two samples).
   double error(size_t i) const;
-  /// For a pixel with only its centre sample: the largest estimate it
-  /// would have were its two samples its own and one of its eight
+  /// For a pixel with only its centre sample: the largest standard error
+  /// its mean would have were its two samples its own and one of its eight
   /// neighbours' (half their difference, relative to the square root of
   /// their mean brightness), i.e. how much an edge between them shows.
+  /// That is the estimate without its factor sqrt(2 / pi): one centre is a
+  /// single sample, so an edge between two is looked for a little harder.
   /// Returns as soon as a neighbour gives `enough` or more (the first such
   /// estimate), which decides `centreContrast(i) >= enough` alike.
   double centreContrast(size_t i,
@@ -111,10 +109,12 @@ public:
 private:
   /// Pixel i's mean colour (it has samples).
   Color mean(size_t i) const;
+  /// The variance of pixel i's mean, per channel (0 below two samples).
+  Color variance(size_t i) const;
 
   int width_, height_;
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
-  ZeroedVector<float> sums_; ///< per pixel: sum r,g,b, odd sum r,g,b
+  ZeroedVector<float> sums_; ///< per pixel: sum r,g,b
   /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift
   ZeroedVector<float> squares_;
   ZeroedVector<uint32_t> count_;

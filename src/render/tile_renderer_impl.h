@@ -90,9 +90,8 @@ template <class Integ> struct TileWork {
   std::array<Sampler, kTilePixels> samplers;
   std::array<Color, kTilePixels> colors;
   std::array<uint16_t, kTilePixels> pixelOf; ///< ray j belongs to tile pixel pixelOf[j]
-  std::array<uint32_t, kTilePixels> sampleOf; ///< ... and is its sample sampleOf[j]
   std::array<uint16_t, kTilePixels> pixelList; ///< the tile pixels with samples to take
-  std::array<Color, kTilePixels> sums, oddSums;
+  std::array<Color, kTilePixels> sums;
   std::array<Color, kTilePixels> squares; ///< the sum of the samples' squares
   std::array<uint32_t, kTilePixels> first; ///< the tile pixel's first sample index
   std::array<uint32_t, kTilePixels> taken;
@@ -138,8 +137,8 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 } // namespace tile_detail
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
-/// end, summing their colours into work.sums / work.oddSums (and their
-/// squares into work.squares). `position(x,
+/// end, summing their colours into work.sums (and their squares into
+/// work.squares). `position(x,
 /// y, s, sampler, px, py)` gives sample s's image position. The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
@@ -157,7 +156,6 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   size_t sampling = 0; // work.pixelList[0, sampling): the pixels with samples to take
   for (size_t i = 0; i < count; ++i) {
     work.sums[i] = Color();
-    work.oddSums[i] = Color();
     work.squares[i] = Color();
     work.taken[i] = 0;
     if (work.first[i] < end) {
@@ -189,7 +187,6 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const size_t i = work.pixelOf[j];
       work.sums[i] += c;
       work.squares[i] += c * c;
-      if (work.sampleOf[j] & 1) work.oddSums[i] += c;
       ++work.taken[i];
     }
     rays = 0;
@@ -212,7 +209,6 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       else
         work.rays[rays] = camera.generate(px, py);
       work.pixelOf[rays] = static_cast<uint16_t>(i);
-      work.sampleOf[rays] = s;
       if (++rays == tile_detail::kTilePixels) trace();
     }
   }
@@ -310,10 +306,9 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // Spread: a light's cells are cut into min(shares, cells) shares. Fixed
   // sampling: one share per sample, so a pixel's n x n samples shade every
   // cell once. Adaptive: samples 2k and 2k+1 take the same share and the
-  // first pass's pairs cover every share, so both halves of the error
-  // estimate see every cell (were the shares split between the halves, a
-  // penumbra pixel's halves would differ however many samples it took, and
-  // it would never stop).
+  // first pass's pairs cover every share (kept from the estimate LRay used
+  // before, whose two halves had to see every cell: it costs nothing, and
+  // the adaptive figures of bench/README.md were measured with it).
   const uint32_t minSamples = static_cast<uint32_t>(std::max(1, adaptive.minSamples));
   const uint32_t maxSamples =
       static_cast<uint32_t>(std::max(adaptive.maxSamples, adaptive.minSamples));
@@ -365,9 +360,10 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           for (size_t i = 0; i < count; ++i) {
             const int x = rect.x(i), y = rect.y(i);
             film.set(x, y, work.sums[i] * invSamples);
+            const Color variance = varianceOfMean(work.sums[i], work.squares[i], total);
             film.setError(x, y,
-                          static_cast<float>(pixelError(work.sums[i], work.oddSums[i], total)));
-            film.setVariance(x, y, varianceOfMean(work.sums[i], work.squares[i], total));
+                          static_cast<float>(pixelError(work.sums[i] * invSamples, variance)));
+            film.setVariance(x, y, variance);
             film.setSampleCount(x, y, total);
           }
           return true;
@@ -456,8 +452,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
                        sobolPosition, work, local);
             for (size_t i = 0; i < count; ++i)
               if (work.taken[i])
-                buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.oddSums[i],
-                           work.squares[i], work.taken[i]);
+                buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.squares[i],
+                           work.taken[i]);
           }
           return true;
         });

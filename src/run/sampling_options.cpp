@@ -157,8 +157,9 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   if (a.minSamples > a.maxSamples)
     throw SceneError(fmt::format("--min-samples ({}) is above --max-samples ({})", a.minSamples,
                                  a.maxSamples));
-  // The first pass's samples are split into two halves for the estimate;
-  // 1 is the centre-first pass (tile_renderer_impl.h).
+  // The first pass's samples take the light's shares in pairs (spread
+  // sampling: tile_renderer_impl.h), so it is even; 1 is the centre-first
+  // pass.
   if (a.minSamples > 1 && a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
   s.aovs = options.aovs;
   s.seed = options.seed;

@@ -13,7 +13,7 @@ int main(int argc, char **argv) {
   // Every frame allocates and frees the same large buffers (its film, the
   // adaptive sample buffer, the image to write). By default glibc hands
   // each one back to the kernel when freed and the next frame faults every
-  // page in again: a third of a 20-frame 800 x 600 animation's time. Kept
+  // page in again: over a quarter of a 20-frame 800 x 600 animation's time. Kept
   // in the process instead (buffers up to 32 MB, the most mallopt allows
   // below mmap; the heap is never trimmed), they are reused as they are.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);

@@ -86,10 +86,8 @@ inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReve
 /// Sobol points 2k and 2k+1 always fall in opposite halves of the pixel,
 /// and whatever a sample's parity chooses (a light share under spread
 /// sampling, say) would see only one side of an edge however many samples
-/// a pixel took.
-/// Always inlined: the tile
-/// loop calls it for each camera sample, and GCC stopped inlining it there
-/// when the code around it grew.
+/// a pixel took. Always inlined: the tile loop calls it for each camera
+/// sample, and GCC stopped inlining it there when the code around it grew.
 [[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x,
                                                 double &y) {
   using namespace owen_detail;

@@ -1,7 +1,8 @@
 // Pipeline: render. Denormals are flushed to zero on render threads: they
 // cost 100x on x86 and never change a visible value. Everything a render
 // computes in parallel sets it first, so a value never depends on which
-// thread happened to compute it (a worker that never ran a tile has it off).
+// thread happened to compute it (TBB runs a task with the floating-point
+// settings it chooses, not those a tile left behind).
 #pragma once
 
 #include <xmmintrin.h>

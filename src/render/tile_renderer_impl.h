@@ -138,8 +138,8 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
 /// end, summing their colours into work.sums (and their squares into
-/// work.squares). `position(x,
-/// y, s, sampler, px, py)` gives sample s's image position. The (pixel,
+/// work.squares). `position(x, y, s, sampler, px, py)` gives sample s's
+/// image position. The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
 /// every pixel samples, else the few pixels still sampling at several

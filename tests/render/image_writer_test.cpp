@@ -5,6 +5,9 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <set>
 
 #include <filesystem>
@@ -36,6 +39,41 @@ TEST(ImageWriter, QuantizeSrgbEncodes) {
   EXPECT_EQ(quantize8(1.f, true), 255);
   EXPECT_EQ(quantize8(0.5f, true), 188); // sRGB(0.5) = 0.7354
   EXPECT_EQ(quantize8(0.002f, true), 7); // linear segment: 12.92 * 0.002 * 255 = 6.6
+}
+
+TEST(ImageWriter, QuantizeRoundsAsLroundDoes) {
+  // The rounding without std::lround against the formula with it, over a
+  // stride of all floats in [0, 1] and over every float within 4096 steps
+  // of each point where the 8-bit value changes (k + 0.5 after the scale,
+  // the sRGB curve undone for the encoded values).
+  auto reference = [](float value, bool srgb) {
+    float v = std::isnan(value) ? 0.f : std::clamp(value, 0.f, 1.f);
+    if (srgb) v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
+    return static_cast<uint8_t>(std::lround(std::clamp(v, 0.f, 1.f) * 255.f));
+  };
+  size_t checked = 0;
+  auto check = [&](float v) {
+    for (bool srgb : {false, true}) {
+      ASSERT_EQ(quantize8(v, srgb), reference(v, srgb)) << v << (srgb ? " srgb" : "");
+      ++checked;
+    }
+  };
+  for (uint32_t bits = 0; bits <= 0x3f800000u; bits += 997) {
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    check(v);
+  }
+  for (int k = 0; k < 255; ++k) {
+    const double encoded = (k + 0.5) / 255;
+    const double linear = encoded <= 0.04045 ? encoded / 12.92
+                                             : std::pow((encoded + 0.055) / 1.055, 2.4);
+    for (double centre : {encoded, linear}) {
+      float v = static_cast<float>(centre);
+      for (int step = 0; step < 4096; ++step) v = std::nextafter(v, 0.f);
+      for (int step = 0; step < 8192; ++step, v = std::nextafter(v, 2.f)) check(v);
+    }
+  }
+  EXPECT_GT(checked, 5000000u);
 }
 
 Film testFilm() {

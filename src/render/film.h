@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/color.h"
+#include "render/pixel_error.h"
 #include "util/zeroed_vector.h"
 
 #include <cstddef>
@@ -46,6 +47,15 @@ public:
     return {p[0], p[1], p[2]};
   }
   const ZeroedVector<float> &data() const { return rgb_; }
+  /// A rendered pixel: the mean of its `count` samples, the variance of
+  /// that mean, and the error estimate made of the two (pixelError: 0
+  /// below two samples, whose variance is 0).
+  void setSamples(int x, int y, const Color &mean, const Color &variance, uint32_t count) {
+    set(x, y, mean);
+    setError(x, y, static_cast<float>(pixelError(mean, variance)));
+    setVariance(x, y, variance);
+    setSampleCount(x, y, count);
+  }
 
   /// The pixel's error estimate (0 with fewer than two samples).
   float error(int x, int y) const { return error_[static_cast<size_t>(y) * width_ + x]; }

@@ -123,11 +123,7 @@ void SampleBuffer::writeTo(Film &film) const {
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       const uint32_t n = count_[i];
-      const Color m = n ? mean(i) : Color(), v = variance(i);
-      film.set(x, y, m);
-      film.setError(x, y, static_cast<float>(n >= 2 ? pixelError(m, v) : 0));
-      film.setVariance(x, y, v);
-      film.setSampleCount(x, y, n);
+      film.setSamples(x, y, n ? mean(i) : Color(), variance(i), n);
     }
   });
   summarizeSampling(film);

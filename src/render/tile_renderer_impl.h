@@ -357,15 +357,9 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           std::fill_n(work.first.begin(), count, 0u);
           sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition,
                      work, local);
-          for (size_t i = 0; i < count; ++i) {
-            const int x = rect.x(i), y = rect.y(i);
-            film.set(x, y, work.sums[i] * invSamples);
-            const Color variance = varianceOfMean(work.sums[i], work.squares[i], total);
-            film.setError(x, y,
-                          static_cast<float>(pixelError(work.sums[i] * invSamples, variance)));
-            film.setVariance(x, y, variance);
-            film.setSampleCount(x, y, total);
-          }
+          for (size_t i = 0; i < count; ++i)
+            film.setSamples(rect.x(i), rect.y(i), work.sums[i] * invSamples,
+                            varianceOfMean(work.sums[i], work.squares[i], total), total);
           return true;
         });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });

@@ -9,6 +9,7 @@
 #include "math/ray.h"
 #include "scene/scene.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -63,11 +64,19 @@ private:
   /// / 8 of the turn between them: a millionth for a quarter turn a step.
   static constexpr int kTableSteps = 512;
 
+  /// A placement's affine rows (its matrix without the constant last
+  /// row): what a camera ray reads of it.
+  struct Pose {
+    std::array<std::array<double, 4>, 3> m;
+  };
+
   void tabulateMotion() {
     const size_t entries = (motion_->stepCount() - 1) * kTableSteps + 1;
     path_.resize(entries);
-    for (size_t i = 0; i < entries; ++i)
-      path_[i] = motion_->matrixAt(static_cast<double>(i) / static_cast<double>(entries - 1));
+    for (size_t i = 0; i < entries; ++i) {
+      const Mat4 m = motion_->matrixAt(static_cast<double>(i) / static_cast<double>(entries - 1));
+      for (int r = 0; r < 3; ++r) path_[i].m[r] = m.m[r];
+    }
   }
 
   /// generate for a moving camera (Camera::motion): placed at `time`.
@@ -79,10 +88,14 @@ private:
     double f;
     locateMotionStep(time, path_.size(), i, f); // the table's entries as steps
     MatrixPlacement moved;
+    const Pose &a = path_[i], &b = path_[i + 1];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c)
-        moved.m.m[r][c] = path_[i].m[r][c] * (1 - f) + path_[i + 1].m[r][c] * f;
-    return generateWith(moved, moved.applyPoint({0, 0, 0}), px, py, lensU, lensV, time);
+        moved.m.m[r][c] = a.m[r][c] * (1 - f) + b.m[r][c] * f;
+    // The camera's centre: the translation itself, not the matrix applied to
+    // (0, 0, 0) (the same values, up to the sign of a zero).
+    const Vec3 centre(moved.m.m[0][3], moved.m.m[1][3], moved.m.m[2][3]);
+    return generateWith(moved, centre, px, py, lensU, lensV, time);
   }
 
   /// A placement by a bare matrix (a moving camera's, at one time).
@@ -150,7 +163,7 @@ private:
   double aperture_, focal_;
   Vec3 origin_;
   const TransformMotion *motion_;
-  std::vector<Mat4> path_; ///< a moving camera's placement table (tabulateMotion)
+  std::vector<Pose> path_; ///< a moving camera's placement table (tabulateMotion)
   bool timed_;
 };
 

@@ -2,6 +2,7 @@
 #include "app/app.h"
 #include "util/printable_text.h"
 
+#include "app/frame_writer.h"
 #include "app/progress_bar.h"
 #include "app/watch/watch_loop.h"
 #include "bindings/scene_script.h"
@@ -23,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <new>
@@ -112,6 +114,7 @@ int run(const Options &opt) {
   ImageCache images(opt.linear);
   ProgressBar bar(!opt.quiet);
   bool warned = false;
+  FrameWriter writer(threads, [](const std::string &path) { setActivity("writing " + path); });
   for (int frame : plan.frames()) {
     setActivity(fmt::format("preparing frame {}", frame));
     FrameStats frameStats;
@@ -144,21 +147,31 @@ int run(const Options &opt) {
         std::fprintf(stderr, "lray: warning: %s\n", printableText(warning).c_str());
     warned = true;
 
-    t0 = std::chrono::steady_clock::now();
-    setActivity("writing " + path);
+    // Written while the next frame renders; its line and statistics follow
+    // once the file is complete.
+    auto done = std::make_shared<const Film>(std::move(film));
+    const size_t filmBytes = done->memoryBytes();
+    std::function<void()> write;
     if (tiled)
-      writeTile(film,
-                {finalName, opt.format, opt.linear, info.imageWidth, info.imageHeight, window,
-                 fingerprint},
-                path);
+      write = [done, path, tile = TileHeader{finalName, opt.format, opt.linear, info.imageWidth,
+                                             info.imageHeight, window, fingerprint}] {
+        writeTile(*done, tile, path);
+      };
     else
-      writeImage(film, path, opt.format, opt.linear);
-    frameStats.writeSeconds = secondsSince(t0);
-    if (!opt.quiet && !bar.enabled())
-      std::printf("%s (%.2f s)\n", printableText(path).c_str(),
-                  frameStats.renderSeconds + frameStats.sceneSeconds);
-    stats.frames.push_back(std::move(frameStats));
+      write = [done, path, format = opt.format, linear = opt.linear] {
+        writeImage(*done, path, format, linear);
+      };
+    writer.submit(path, filmBytes, std::move(write),
+                  [&stats, &bar, &opt, frameStats, path](double seconds) mutable {
+                    frameStats.writeSeconds = seconds;
+                    if (!opt.quiet && !bar.enabled())
+                      std::printf("%s (%.2f s)\n", printableText(path).c_str(),
+                                  frameStats.renderSeconds + frameStats.sceneSeconds);
+                    stats.frames.push_back(std::move(frameStats));
+                  });
   }
+  setActivity("writing the last frames");
+  writer.finish();
   stats.totalSeconds = secondsSince(start);
   stats.peakMemoryBytes = peakMemoryBytes();
   setActivity("writing " + opt.statsPath);

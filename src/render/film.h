@@ -96,6 +96,12 @@ public:
 
   SamplingReport report;
 
+  /// The memory its pixels hold.
+  size_t memoryBytes() const {
+    return (rgb_.size() + error_.size() + variance_.size()) * sizeof(float) +
+           samples_.size() * sizeof(uint32_t) + aov_.size() * sizeof(Aov);
+  }
+
 private:
   int width_, height_;
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.

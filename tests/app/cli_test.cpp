@@ -84,6 +84,47 @@ TEST_F(LrayCli, AnimationFileNamesAndFrameRange) {
   EXPECT_NE(bad.output.find("3 frames"), std::string::npos) << bad.output;
 }
 
+TEST_F(LrayCli, AnAnimationsFramesAreTheSameBytesWrittenBesideTheRenderOrAfterIt) {
+  // One thread writes each frame before the next renders; more write them
+  // while the next ones render (app/frame_writer.h).
+  fs::path scene = writeScene("aw.lua", kSpheres);
+  for (const char *format : {"png", "tga", "exr"}) {
+    for (int threads : {1, 2, 6}) {
+      const fs::path out = dir_ / (std::string(format) + std::to_string(threads));
+      Result r = runLray(scene.string() + " " + out.string() + " --quiet --format " + format +
+                         " --threads " + std::to_string(threads));
+      ASSERT_EQ(r.status, 0) << r.output;
+      for (int frame = 0; frame < 3; ++frame) {
+        const std::string name = "aw000" + std::to_string(frame) + "." + format;
+        const std::string bytes = readFile(out / name);
+        ASSERT_FALSE(bytes.empty()) << name;
+        EXPECT_EQ(bytes, readFile(dir_ / (std::string(format) + "1") / name))
+            << name << " with " << threads << " threads";
+      }
+      EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 3);
+    }
+  }
+}
+
+TEST_F(LrayCli, AFailedFrameWriteStopsTheRunNamingTheFileAndLeavesNoTemporaryFile) {
+  fs::path scene = writeScene("wf.lua", kSpheres);
+  for (int threads : {1, 2, 6}) {
+    const fs::path out = dir_ / ("o" + std::to_string(threads));
+    fs::create_directories(out / "wf0001.png" / "inside"); // frame 1's name is taken
+    Result r = runLray(scene.string() + " " + out.string() + " --quiet --threads " +
+                       std::to_string(threads));
+    EXPECT_EQ(r.status, 1) << threads;
+    EXPECT_NE(r.output.find("cannot write image '" + (out / "wf0001.png").string() +
+                            "': a folder of that name is in the way"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(readFile(out / "wf0000.png").empty()) << threads; // the frame before is whole
+    for (const auto &entry : fs::directory_iterator(out))
+      EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
+          << entry.path();
+  }
+}
+
 TEST_F(LrayCli, OneFrameSceneIsNamedAfterTheScript) {
   fs::path scene = writeScene("still.lua", "function scene(clock) return Scene() end\n");
   Result r = runLray(scene.string() + " " + (dir_ / "o").string() +

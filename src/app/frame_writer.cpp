@@ -37,7 +37,6 @@ void FrameWriter::submit(std::string path, size_t bytes, std::function<void()> w
                          std::function<void(double)> written) {
   auto job = std::make_unique<Job>();
   job->path = std::move(path);
-  job->bytes = bytes;
   job->write = std::move(write);
   job->written = std::move(written);
   if (pending_.size() >= maxPending_ || pendingBytes_ + bytes > kMaxPendingBytes) finish();

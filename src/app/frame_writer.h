@@ -46,7 +46,6 @@ public:
 private:
   struct Job {
     std::string path;
-    size_t bytes = 0;
     std::function<void()> write;
     std::function<void(double)> written;
     std::exception_ptr error;

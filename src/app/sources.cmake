@@ -1,4 +1,5 @@
-list(APPEND LRAY_CORE_SOURCES src/app/progress_bar.cpp src/app/frame_writer.cpp src/app/app.cpp src/app/merge.cpp
+list(APPEND LRAY_CORE_SOURCES src/app/progress_bar.cpp src/app/frame_writer.cpp src/app/app.cpp
+                              src/app/merge.cpp
                               src/app/watch/file_watcher.cpp src/app/watch/preview_state.cpp
                               src/app/watch/preview_server.cpp
                               src/app/watch/watch_loop.cpp)

@@ -13,12 +13,20 @@ shutter open). A table (markdown) goes to stdout. See bench/README.md,
     bench/motion/motion_cost.py                 # 2 threads, 3 runs
     bench/motion/motion_cost.py --threads 1 --runs 5
     bench/motion/motion_cost.py --instructions  # callgrind, a quarter of the size
+    bench/motion/motion_cost.py --embree-alone  # what Embree's own motion blur costs
 
 Times on a shared machine wander by 10 % and more from run to run;
 `--instructions` counts the instructions of the tile rendering instead
 (valgrind's callgrind, inclusive in lray::sampleTile, one thread, each
 image a quarter of the width and height): deterministic, but blind to
 cache misses and latency, so it reads lower than the times.
+
+`--embree-alone` asks how much of the ratio is Embree's: each case runs
+through build/bench_throughput (one thread, Embree, the same rays traced
+again through the backend alone, bench/throughput/README.md) under `perf
+record`, sharp and blurred, and reports three ratios, blurred over sharp:
+LRay's render, the backend alone (Embree with LRay's shape callbacks) and
+Embree's own code (perf samples in libembree3). Needs `perf`.
 """
 
 import argparse
@@ -31,6 +39,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 LRAY = os.path.join(ROOT, "build", "lray")
+BENCH_THROUGHPUT = os.path.join(ROOT, "build", "bench_throughput")
 
 # name -> (scene, frame, shutter, extra options)
 CASES = {
@@ -70,6 +79,20 @@ def instructions(scene, frame, shutter, extra, backend, out):
     raise RuntimeError("no lray::sampleTile in the profile")
 
 
+def embree_alone(scene, frame, shutter, extra, out):
+    """(render s, backend-alone s, Embree's own perf samples) of one frame."""
+    data = os.path.join(out, "perf.data")
+    result = subprocess.run(["perf", "record", "-q", "-F", "2000", "-o", data, BENCH_THROUGHPUT,
+                             scene, "-s", "4", "--frame", str(frame), "--shutter", shutter,
+                             "--repeats", "3"] + extra,
+                            check=True, capture_output=True, text=True)
+    line = json.loads(result.stdout.strip().splitlines()[-1])
+    report = subprocess.run(["perf", "report", "-i", data, "--sort", "dso", "-q", "-n"],
+                            check=True, capture_output=True, text=True).stdout
+    samples = sum(int(row.split()[1]) for row in report.splitlines() if "libembree" in row)
+    return line["render_s"], line["raw_s"]["total"], samples
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -78,7 +101,22 @@ def main():
     ap.add_argument("--backends", nargs="+", default=["embree", "kdtree"])
     ap.add_argument("--instructions", action="store_true",
                     help="count instructions under callgrind instead of timing")
+    ap.add_argument("--embree-alone", action="store_true",
+                    help="how much of the ratio is Embree's own (perf, bench_throughput)")
     args = ap.parse_args()
+    if args.embree_alone:
+        print("bench_throughput, Embree, 1 thread, 4 x 4 samples per pixel; blurred / sharp\n")
+        print("| scene | render sharp / blurred (s) | LRay's render | backend alone | "
+              "Embree's own code |")
+        print("|---|---|---|---|---|")
+        with tempfile.TemporaryDirectory() as out:
+            for name, (scene, frame, shutter, extra) in CASES.items():
+                sharp = embree_alone(scene, frame, "0", extra, out)
+                blurred = embree_alone(scene, frame, shutter, extra, out)
+                r = [b / a for a, b in zip(sharp, blurred)]
+                print(f"| {name} | {sharp[0]:.3f} / {blurred[0]:.3f} | {r[0]:.2f} | "
+                      f"{r[1]:.2f} | {r[2]:.2f} |", flush=True)
+        return
     if args.instructions:
         print("callgrind, 1 thread, 4 x 4 samples per pixel, a quarter of the size\n")
         print("| scene | backend | sharp (instructions) | blurred (instructions) | ratio |")

@@ -6,7 +6,9 @@
 // (Embree's calls, or the kd-tree's walks: single rays, and packets where
 // LRay uses them), timed per kind.
 //   build/bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] [--repeats R]
-//       [--backend embree|kdtree]
+//       [--backend embree|kdtree] [--shutter S]
+// (--shutter: the frame with its shutter open, as `lray --shutter`: each
+// recorded ray keeps its time, and the replay asks the backend at it.)
 // Prints one JSON line: render seconds (median of R), rays per kind, raw
 // backend seconds per kind (medians of R) and the share raw / render.
 #include "accel/embree/embree_accelerator.h"
@@ -15,6 +17,7 @@
 #include "render/tile_renderer_impl.h"
 #include "shading/image_cache.h"
 #include "recording_accelerator.h"
+#include "run/frame_pipeline.h"
 
 #include <tbb/global_control.h>
 
@@ -37,6 +40,7 @@ double median(std::vector<double> v) {
 struct Options {
   std::string scenePath;
   int width = 640, height = 360, samples = 3, frame = 0, repeats = 3;
+  double shutter = -1; ///< the script's own unless given
 };
 
 /// Renders with `accel` R times, records one more render's rays, replays
@@ -91,7 +95,7 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
 int main(int argc, char **argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] "
-                         "[--repeats R] [--backend embree|kdtree]\n");
+                         "[--repeats R] [--backend embree|kdtree] [--shutter S]\n");
     return 2;
   }
   Options o;
@@ -104,6 +108,7 @@ int main(int argc, char **argv) {
     else if (!std::strcmp(argv[i], "-s")) o.samples = v;
     else if (!std::strcmp(argv[i], "--frame")) o.frame = v;
     else if (!std::strcmp(argv[i], "--repeats")) o.repeats = std::max(1, v);
+    else if (!std::strcmp(argv[i], "--shutter")) o.shutter = std::atof(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--backend") &&
              (!std::strcmp(argv[i + 1], "embree") || !std::strcmp(argv[i + 1], "kdtree")))
       backend = argv[i + 1];
@@ -116,7 +121,9 @@ int main(int argc, char **argv) {
   try {
     SceneScript script(o.scenePath);
     SceneInfo info = script.info();
-    Scene scene = script.buildFrame(info.clockForFrame(o.frame));
+    if (o.shutter >= 0) info.shutter = o.shutter;
+    int calls = 0;
+    Scene scene = buildFrameScene(script, info, o.frame, calls);
     ImageCache images(false);
     images.load(scene);
     if (backend == "kdtree") measure(KdTreeAccelerator(scene), "kdtree", scene, images, o);

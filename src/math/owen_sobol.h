@@ -79,6 +79,33 @@ inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReve
 
 } // namespace owen_detail
 
+/// What owenSobol2D draws from a pixel's scramble seed: the same for all of
+/// the pixel's samples, so a loop over many of them makes it once
+/// (owenScramble).
+struct OwenScramble {
+  uint32_t shuffle = 0, sx = 0, sy = 0;
+};
+
+inline OwenScramble owenScramble(uint64_t seed) {
+  return {static_cast<uint32_t>(seed >> 32), static_cast<uint32_t>(mix64(seed)),
+          static_cast<uint32_t>(mix64(seed ^ 0x5851f42d4c957f2dULL))};
+}
+
+/// owenSobol2D of the index whose bits reversed are `reversedIndex`, with
+/// the pixel's scramble made ahead: the same values. The tile loop takes
+/// sample s of a tile's pixels in turn, so it reverses s once for all of
+/// them and makes each pixel's scramble once for all of its samples.
+[[gnu::always_inline]] inline void owenSobol2DReversed(uint32_t reversedIndex,
+                                                        const OwenScramble &scramble, double &x,
+                                                        double &y) {
+  using namespace owen_detail;
+  // nestedScramble(index, shuffle), its first reversal given.
+  const uint32_t i = reverseBits(laineKarras(reversedIndex, scramble.shuffle));
+  // nestedScramble(reverseBits(i), sx), with its two reversals cancelled.
+  x = reverseBits(laineKarras(i, scramble.sx)) * 0x1.0p-32;
+  y = reverseBits(laineKarras(sobolSecondReversed(i), scramble.sy)) * 0x1.0p-32; // nestedScramble
+}
+
 /// Sample `index` of the pixel whose scramble seed is `seed`: a position in
 /// [0,1)^2 inside the pixel. The index is shuffled first (an Owen scramble
 /// of the index, which maps every aligned block of 2^m indices onto an
@@ -86,18 +113,9 @@ inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReve
 /// Sobol points 2k and 2k+1 always fall in opposite halves of the pixel,
 /// and whatever a sample's parity chooses (a light share under spread
 /// sampling, say) would see only one side of an edge however many samples
-/// a pixel took. Always inlined: the tile loop calls it for each camera
-/// sample, and GCC stopped inlining it there when the code around it grew.
-[[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x,
-                                                double &y) {
-  using namespace owen_detail;
-  const uint32_t shuffle = static_cast<uint32_t>(seed >> 32);
-  const uint32_t sx = static_cast<uint32_t>(mix64(seed));
-  const uint32_t sy = static_cast<uint32_t>(mix64(seed ^ 0x5851f42d4c957f2dULL));
-  const uint32_t i = nestedScramble(index, shuffle);
-  // nestedScramble(reverseBits(i), sx), with its two reversals cancelled.
-  x = reverseBits(laineKarras(i, sx)) * 0x1.0p-32;
-  y = reverseBits(laineKarras(sobolSecondReversed(i), sy)) * 0x1.0p-32; // nestedScramble
+/// a pixel took.
+[[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x, double &y) {
+  owenSobol2DReversed(owen_detail::reverseBits(index), owenScramble(seed), x, y);
 }
 
 /// Sample `index` of a one-dimensional stratified sequence in [0, 1) whose

@@ -100,7 +100,9 @@ template <class Integ> struct TileWork {
   /// positions, lens points and times (the last two when the camera has
   /// them), the offset of its light strata.
   std::array<uint64_t, kTilePixels> samplerKey, pattern, lensPattern, timePattern;
+  std::array<OwenScramble, kTilePixels> scramble; ///< owenScramble(pattern)
   std::array<uint32_t, kTilePixels> stratumOffset;
+  std::array<int, kTilePixels> x, y; ///< the tile pixel's image coordinates
   static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
 
@@ -138,8 +140,9 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
 /// end, summing their colours into work.sums (and their squares into
-/// work.squares). `position(x, y, s, sampler, px, py)` gives sample s's
-/// image position. The (pixel,
+/// work.squares). `position(x, y, scramble, reversedS, sampler, px, py)`
+/// gives sample s's image position (reversedS: s's bits reversed, for
+/// owenSobol2DReversed; scramble: the pixel's). The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
 /// every pixel samples, else the few pixels still sampling at several
@@ -161,9 +164,12 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
     if (work.first[i] < end) {
       work.pixelList[sampling++] = static_cast<uint16_t>(i);
       begin = std::min(begin, work.first[i]);
-      const uint64_t pixel = static_cast<uint64_t>(rect.y(i)) * settings.width + rect.x(i);
+      work.x[i] = rect.x(i);
+      work.y[i] = rect.y(i);
+      const uint64_t pixel = static_cast<uint64_t>(work.y[i]) * settings.width + work.x[i];
       work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
       work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
+      work.scramble[i] = owenScramble(work.pattern[i]);
       if (camera.hasLens())
         work.lensPattern[i] = tile_detail::lensPatternSeed(settings.stream(), pixel);
       if (camera.timed())
@@ -192,17 +198,18 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
     rays = 0;
   };
   for (uint32_t s = begin; s < end; ++s) {
+    const uint32_t reversedS = owen_detail::reverseBits(s);
     for (size_t k = 0; k < sampling; ++k) {
       const size_t i = work.pixelList[k];
       if (work.first[i] > s) continue;
-      const int x = rect.x(i), y = rect.y(i);
+      const int x = work.x[i], y = work.y[i];
       Sampler &sampler = work.samplers[rays];
       sampler = Sampler(work.samplerKey[i], s);
       // The path tracer's choices, stratified over the pixel's samples.
       if (settings.integrator == IntegratorKind::Path) sampler.stratify(s, work.pattern[i]);
       if (spreadLight) sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
       double px, py;
-      position(x, y, work.pattern[i], s, sampler, px, py);
+      position(x, y, work.scramble[i], reversedS, sampler, px, py);
       if (camera.hasLens() || camera.timed()) [[unlikely]]
         work.rays[rays] = tile_detail::lensOrTimedRay(camera, work.lensPattern[i],
                                                       work.timePattern[i], s, px, py, sampler);
@@ -324,10 +331,10 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   tbb::combinable<RayCounts> perThread;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
   // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s
-  // (`pattern`: the pixel's scramble seed, pixelPatternSeed).
-  auto sobolPosition = [&](int x, int y, uint64_t pattern, uint32_t s, Sampler &, double &px,
-                           double &py) {
-    owenSobol2D(s, pattern, px, py);
+  // (`scramble`: from the pixel's seed, pixelPatternSeed).
+  auto sobolPosition = [&](int x, int y, const OwenScramble &scramble, uint32_t reversedS,
+                           Sampler &, double &px, double &py) {
+    owenSobol2DReversed(reversedS, scramble, px, py);
     px += x;
     py += y;
   };
@@ -340,14 +347,14 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     // random position; figures in bench/HISTORY.md).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
-    auto fixedPosition = [&](int x, int y, uint64_t pattern, uint32_t s, Sampler &sampler,
-                             double &px, double &py) {
+    auto fixedPosition = [&](int x, int y, const OwenScramble &scramble, uint32_t reversedS,
+                             Sampler &sampler, double &px, double &py) {
       if (n == 1) {
         px = x + 0.5;
         py = y + 0.5;
         return;
       }
-      sobolPosition(x, y, pattern, s, sampler, px, py);
+      sobolPosition(x, y, scramble, reversedS, sampler, px, py);
     };
     forEachTile<Integ>(
         settings, perThread, progress,
@@ -384,7 +391,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     allCells.emplace(scene, accel, images,
                      IntegratorOptions{1, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const Integ &centreIntegrator = allCells ? *allCells : integrator;
-  auto centrePosition = [](int x, int y, uint64_t, uint32_t, Sampler &, double &px, double &py) {
+  auto centrePosition = [](int x, int y, const OwenScramble &, uint32_t, Sampler &, double &px,
+                           double &py) {
     px = x + 0.5;
     py = y + 0.5;
   };

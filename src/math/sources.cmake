@@ -1,1 +1,2 @@
-list(APPEND LRAY_CORE_SOURCES src/math/transform.cpp src/math/transform_motion.cpp)
+list(APPEND LRAY_CORE_SOURCES src/math/transform.cpp src/math/transform_motion.cpp
+     src/math/owen_sobol_lanes.cpp)

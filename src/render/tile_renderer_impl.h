@@ -7,6 +7,7 @@
 #include "render/camera_rays.h"
 #include "render/flush_to_zero.h"
 #include "math/owen_sobol.h"
+#include "math/owen_sobol_lanes.h"
 #include "render/pixel_error.h"
 #include "render/sample_buffer.h"
 #include "render/tile_renderer.h"
@@ -140,19 +141,19 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 
 /// Takes samples [work.first[i], end) of each tile pixel i with first[i] <
 /// end, summing their colours into work.sums (and their squares into
-/// work.squares). `position(x, y, scramble, reversedS, sampler, px, py)`
-/// gives sample s's image position (reversedS: s's bits reversed, for
-/// owenSobol2DReversed; scramble: the pixel's). The (pixel,
+/// work.squares). Sample s of a pixel goes through its centre (`centres`)
+/// or through the pixel's Owen-scrambled Sobol point s (its scramble from
+/// pixelPatternSeed), eight pixels' at a time (owenSobol2DLanes). The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
 /// every pixel samples, else the few pixels still sampling at several
 /// consecutive indices (neighbouring rays either way, so each batch's camera
 /// and shadow rays stay coherent, and the batches are always full). A
 /// pixel's samples are summed in index order, whatever the batches.
-template <class Accel, class Integ, class Position>
+template <class Accel, class Integ>
 void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
-                bool spreadLight, bool pairedStrata, const Position &position,
+                bool spreadLight, bool pairedStrata, bool centres,
                 tile_detail::TileWork<Integ> &work, RayCounts &counts) {
   const size_t count = rect.pixels();
   uint32_t begin = end;
@@ -199,24 +200,41 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   };
   for (uint32_t s = begin; s < end; ++s) {
     const uint32_t reversedS = owen_detail::reverseBits(s);
-    for (size_t k = 0; k < sampling; ++k) {
-      const size_t i = work.pixelList[k];
-      if (work.first[i] > s) continue;
-      const int x = work.x[i], y = work.y[i];
-      Sampler &sampler = work.samplers[rays];
-      sampler = Sampler(work.samplerKey[i], s);
-      // The path tracer's choices, stratified over the pixel's samples.
-      if (settings.integrator == IntegratorKind::Path) sampler.stratify(s, work.pattern[i]);
-      if (spreadLight) sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
-      double px, py;
-      position(x, y, work.scramble[i], reversedS, sampler, px, py);
-      if (camera.hasLens() || camera.timed()) [[unlikely]]
-        work.rays[rays] = tile_detail::lensOrTimedRay(camera, work.lensPattern[i],
-                                                      work.timePattern[i], s, px, py, sampler);
-      else
-        work.rays[rays] = camera.generate(px, py);
-      work.pixelOf[rays] = static_cast<uint16_t>(i);
-      if (++rays == tile_detail::kTilePixels) trace();
+    for (size_t k = 0; k < sampling;) {
+      // The next pixels taking sample s, and where in them it falls.
+      uint16_t lane[kOwenLanes];
+      size_t lanes = 0;
+      OwenLanes scrambles;
+      for (; k < sampling && lanes < kOwenLanes; ++k) {
+        const uint16_t i = work.pixelList[k];
+        if (work.first[i] > s) continue;
+        if (!centres) scrambles.set(lanes, work.scramble[i]);
+        lane[lanes++] = i;
+      }
+      double u[kOwenLanes], v[kOwenLanes];
+      if (centres) {
+        std::fill_n(u, lanes, 0.5);
+        std::fill_n(v, lanes, 0.5);
+      } else {
+        owenSobol2DLanes(reversedS, scrambles, lanes, u, v);
+      }
+      for (size_t l = 0; l < lanes; ++l) {
+        const size_t i = lane[l];
+        Sampler &sampler = work.samplers[rays];
+        sampler = Sampler(work.samplerKey[i], s);
+        // The path tracer's choices, stratified over the pixel's samples.
+        if (settings.integrator == IntegratorKind::Path) sampler.stratify(s, work.pattern[i]);
+        if (spreadLight)
+          sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
+        const double px = work.x[i] + u[l], py = work.y[i] + v[l];
+        if (camera.hasLens() || camera.timed()) [[unlikely]]
+          work.rays[rays] = tile_detail::lensOrTimedRay(camera, work.lensPattern[i],
+                                                        work.timePattern[i], s, px, py, sampler);
+        else
+          work.rays[rays] = camera.generate(px, py);
+        work.pixelOf[rays] = static_cast<uint16_t>(i);
+        if (++rays == tile_detail::kTilePixels) trace();
+      }
     }
   }
   if (rays) trace();
@@ -330,15 +348,6 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
-  // Sample s of pixel (x, y): the pixel's Owen-scrambled Sobol point s
-  // (`scramble`: from the pixel's seed, pixelPatternSeed).
-  auto sobolPosition = [&](int x, int y, const OwenScramble &scramble, uint32_t reversedS,
-                           Sampler &, double &px, double &py) {
-    owenSobol2DReversed(reversedS, scramble, px, py);
-    px += x;
-    py += y;
-  };
-
   if (!settings.adaptive) {
     // Fixed sampling: n x n samples per pixel at the same Owen-scrambled
     // Sobol positions as adaptive sampling's (measured: lower RMSE than one
@@ -347,23 +356,14 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     // random position; figures in bench/HISTORY.md).
     const double invSamples = 1.0 / (static_cast<double>(n) * n);
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
-    auto fixedPosition = [&](int x, int y, const OwenScramble &scramble, uint32_t reversedS,
-                             Sampler &sampler, double &px, double &py) {
-      if (n == 1) {
-        px = x + 0.5;
-        py = y + 0.5;
-        return;
-      }
-      sobolPosition(x, y, scramble, reversedS, sampler, px, py);
-    };
     forEachTile<Integ>(
         settings, perThread, progress,
         [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
           if (!meets(rect, crop)) return false;
           const size_t count = rect.pixels();
           std::fill_n(work.first.begin(), count, 0u);
-          sampleTile(accel, integrator, camera, settings, rect, total, spread, false, fixedPosition,
-                     work, local);
+          sampleTile(accel, integrator, camera, settings, rect, total, spread, false, n == 1, work,
+                     local);
           for (size_t i = 0; i < count; ++i)
             film.setSamples(rect.x(i), rect.y(i), work.sums[i] * invSamples,
                             varianceOfMean(work.sums[i], work.squares[i], total), total);
@@ -391,11 +391,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     allCells.emplace(scene, accel, images,
                      IntegratorOptions{1, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const Integ &centreIntegrator = allCells ? *allCells : integrator;
-  auto centrePosition = [](int x, int y, const OwenScramble &, uint32_t, Sampler &, double &px,
-                           double &py) {
-    px = x + 0.5;
-    py = y + 0.5;
-  };
+
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
   // pixels beyond the margin change states one pixel further in per pass
@@ -441,8 +437,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           if (centreFirst && pass == 0) {
             for (size_t i = 0; i < count; ++i)
               work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
-            sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false,
-                       centrePosition, work, local);
+            sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false, true,
+                       work, local);
             for (size_t i = 0; i < count; ++i)
               if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
           } else {
@@ -451,7 +447,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
               work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
             }
             sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
-                       sobolPosition, work, local);
+                       false, work, local);
             for (size_t i = 0; i < count; ++i)
               if (work.taken[i])
                 buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.squares[i],

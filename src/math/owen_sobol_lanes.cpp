@@ -70,8 +70,8 @@ LRAY_AVX2 inline __m256i load(const uint32_t *row) {
   return _mm256_load_si256(reinterpret_cast<const __m256i *>(row));
 }
 
-LRAY_AVX2 void lanesAvx2(uint32_t reversedIndex, const OwenLanes &lanes, size_t count, double *u,
-                         double *v) {
+LRAY_AVX2 void sobolLanesAvx2(uint32_t reversedIndex, const OwenLanes &lanes, size_t count,
+                              double *u, double *v) {
   const __m256i i = reverseBitsLanes(
       laineKarrasLanes(_mm256_set1_epi32(static_cast<int>(reversedIndex)), load(lanes.shuffle)));
   storeFractions(reverseBitsLanes(laineKarrasLanes(i, load(lanes.sx))), count, u);
@@ -85,7 +85,7 @@ namespace detail {
 
 void owenSobol2DLanes(uint32_t reversedIndex, const OwenLanes &lanes, size_t count, double *u,
                       double *v, bool avx2) {
-  if (avx2) return lanesAvx2(reversedIndex, lanes, count, u, v);
+  if (avx2) return sobolLanesAvx2(reversedIndex, lanes, count, u, v);
   for (size_t k = 0; k < count; ++k)
     owenSobol2DReversed(reversedIndex, {lanes.shuffle[k], lanes.sx[k], lanes.sy[k]}, u[k], v[k]);
 }

@@ -67,15 +67,15 @@ LRAY_AVX2 inline void storeFractions(__m256i x, size_t count, double *out) {
 }
 
 LRAY_AVX2 inline __m256i load(const uint32_t *row) {
-  return _mm256_load_si256(reinterpret_cast<const __m256i *>(row));
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i *>(row));
 }
 
-LRAY_AVX2 void sobolLanesAvx2(uint32_t reversedIndex, const OwenLanes &lanes, size_t count,
+LRAY_AVX2 void sobolLanesAvx2(uint32_t reversedIndex, const OwenRows &rows, size_t count,
                               double *u, double *v) {
   const __m256i i = reverseBitsLanes(
-      laineKarrasLanes(_mm256_set1_epi32(static_cast<int>(reversedIndex)), load(lanes.shuffle)));
-  storeFractions(reverseBitsLanes(laineKarrasLanes(i, load(lanes.sx))), count, u);
-  storeFractions(reverseBitsLanes(laineKarrasLanes(sobolSecondReversedLanes(i), load(lanes.sy))),
+      laineKarrasLanes(_mm256_set1_epi32(static_cast<int>(reversedIndex)), load(rows.shuffle)));
+  storeFractions(reverseBitsLanes(laineKarrasLanes(i, load(rows.sx))), count, u);
+  storeFractions(reverseBitsLanes(laineKarrasLanes(sobolSecondReversedLanes(i), load(rows.sy))),
                  count, v);
 }
 
@@ -83,11 +83,11 @@ LRAY_AVX2 void sobolLanesAvx2(uint32_t reversedIndex, const OwenLanes &lanes, si
 
 namespace detail {
 
-void owenSobol2DLanes(uint32_t reversedIndex, const OwenLanes &lanes, size_t count, double *u,
+void owenSobol2DLanes(uint32_t reversedIndex, const OwenRows &rows, size_t count, double *u,
                       double *v, bool avx2) {
-  if (avx2) return sobolLanesAvx2(reversedIndex, lanes, count, u, v);
+  if (avx2) return sobolLanesAvx2(reversedIndex, rows, count, u, v);
   for (size_t k = 0; k < count; ++k)
-    owenSobol2DReversed(reversedIndex, {lanes.shuffle[k], lanes.sx[k], lanes.sy[k]}, u[k], v[k]);
+    owenSobol2DReversed(reversedIndex, {rows.shuffle[k], rows.sx[k], rows.sy[k]}, u[k], v[k]);
 }
 
 bool hasAvx2() {
@@ -97,9 +97,9 @@ bool hasAvx2() {
 
 } // namespace detail
 
-void owenSobol2DLanes(uint32_t reversedIndex, const OwenLanes &lanes, size_t count, double *u,
+void owenSobol2DLanes(uint32_t reversedIndex, const OwenRows &rows, size_t count, double *u,
                       double *v) {
-  detail::owenSobol2DLanes(reversedIndex, lanes, count, u, v, detail::hasAvx2());
+  detail::owenSobol2DLanes(reversedIndex, rows, count, u, v, detail::hasAvx2());
 }
 
 } // namespace lray

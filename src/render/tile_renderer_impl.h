@@ -101,7 +101,9 @@ template <class Integ> struct TileWork {
   /// positions, lens points and times (the last two when the camera has
   /// them), the offset of its light strata.
   std::array<uint64_t, kTilePixels> samplerKey, pattern, lensPattern, timePattern;
-  std::array<OwenScramble, kTilePixels> scramble; ///< owenScramble(pattern)
+  /// owenScramble(pattern) as rows (OwenRows), padded so that eight lanes
+  /// can be read from any pixel.
+  std::array<uint32_t, kTilePixels + kOwenLanes> shuffle{}, sx{}, sy{};
   std::array<uint32_t, kTilePixels> stratumOffset;
   std::array<int, kTilePixels> x, y; ///< the tile pixel's image coordinates
   static_assert(kTilePixels <= Integ::kMaxTileRays);
@@ -170,7 +172,10 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const uint64_t pixel = static_cast<uint64_t>(work.y[i]) * settings.width + work.x[i];
       work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
       work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
-      work.scramble[i] = owenScramble(work.pattern[i]);
+      const OwenScramble scramble = owenScramble(work.pattern[i]);
+      work.shuffle[i] = scramble.shuffle;
+      work.sx[i] = scramble.sx;
+      work.sy[i] = scramble.sy;
       if (camera.hasLens())
         work.lensPattern[i] = tile_detail::lensPatternSeed(settings.stream(), pixel);
       if (camera.timed())
@@ -204,19 +209,24 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       // The next pixels taking sample s, and where in them it falls.
       uint16_t lane[kOwenLanes];
       size_t lanes = 0;
-      OwenLanes scrambles;
       for (; k < sampling && lanes < kOwenLanes; ++k) {
         const uint16_t i = work.pixelList[k];
         if (work.first[i] > s) continue;
-        if (!centres) scrambles.set(lanes, work.scramble[i]);
         lane[lanes++] = i;
       }
       double u[kOwenLanes], v[kOwenLanes];
       if (centres) {
         std::fill_n(u, lanes, 0.5);
         std::fill_n(v, lanes, 0.5);
+      } else if (lanes && size_t(lane[lanes - 1] - lane[0]) == lanes - 1) {
+        // Consecutive pixels (the list is in order): their own rows.
+        const size_t i = lane[0];
+        owenSobol2DLanes(reversedS, {&work.shuffle[i], &work.sx[i], &work.sy[i]}, lanes, u, v);
       } else {
-        owenSobol2DLanes(reversedS, scrambles, lanes, u, v);
+        OwenLanes scrambles;
+        for (size_t l = 0; l < lanes; ++l)
+          scrambles.set(l, {work.shuffle[lane[l]], work.sx[lane[l]], work.sy[lane[l]]});
+        owenSobol2DLanes(reversedS, scrambles.rows(), lanes, u, v);
       }
       for (size_t l = 0; l < lanes; ++l) {
         const size_t i = lane[l];

@@ -40,7 +40,7 @@ void checkPath(bool avx2) {
         double u[kOwenLanes], v[kOwenLanes];
         for (double &d : u) d = -1;
         for (double &d : v) d = -1;
-        detail::owenSobol2DLanes(owen_detail::reverseBits(index), lanes, count, u, v, avx2);
+        detail::owenSobol2DLanes(owen_detail::reverseBits(index), lanes.rows(), count, u, v, avx2);
         for (size_t k = 0; k < kOwenLanes; ++k) {
           if (k >= count) { // lanes past count are not written
             EXPECT_EQ(u[k], -1);
@@ -69,7 +69,7 @@ TEST(OwenSobol2DLanes, PositionsStayInThePixel) {
   const OwenLanes lanes = lanesFrom(7, seeds);
   for (uint32_t index = 0; index < 1024; ++index) {
     double u[kOwenLanes], v[kOwenLanes];
-    owenSobol2DLanes(owen_detail::reverseBits(index), lanes, kOwenLanes, u, v);
+    owenSobol2DLanes(owen_detail::reverseBits(index), lanes.rows(), kOwenLanes, u, v);
     for (size_t k = 0; k < kOwenLanes; ++k) {
       ASSERT_GE(u[k], 0.0);
       ASSERT_LT(u[k], 1.0);

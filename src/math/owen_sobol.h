@@ -94,7 +94,8 @@ inline OwenScramble owenScramble(uint64_t seed) {
 /// owenSobol2D of the index whose bits reversed are `reversedIndex`, with
 /// the pixel's scramble made ahead: the same values. The tile loop takes
 /// sample s of a tile's pixels in turn, so it reverses s once for all of
-/// them and makes each pixel's scramble once for all of its samples.
+/// them and makes each pixel's scramble once for all of its samples
+/// (owen_sobol_lanes.h).
 [[gnu::always_inline]] inline void owenSobol2DReversed(uint32_t reversedIndex,
                                                         const OwenScramble &scramble, double &x,
                                                         double &y) {
@@ -113,8 +114,10 @@ inline OwenScramble owenScramble(uint64_t seed) {
 /// Sobol points 2k and 2k+1 always fall in opposite halves of the pixel,
 /// and whatever a sample's parity chooses (a light share under spread
 /// sampling, say) would see only one side of an edge however many samples
-/// a pixel took.
-[[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x, double &y) {
+/// a pixel took. Always inlined: the path tracer calls it for each pair of
+/// stratified dimensions (Sampler::next2D).
+[[gnu::always_inline]] inline void owenSobol2D(uint32_t index, uint64_t seed, double &x,
+                                                double &y) {
   owenSobol2DReversed(owen_detail::reverseBits(index), owenScramble(seed), x, y);
 }
 

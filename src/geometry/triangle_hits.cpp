@@ -7,6 +7,7 @@
 // so the hits are the same bit for bit (tests/geometry/triangle_hit_test).
 #include "math/error_bound.h"
 #include "geometry/shape.h"
+#include "util/cpu_features.h"
 
 #include <cstring>
 #include <emmintrin.h>
@@ -270,8 +271,7 @@ void fillTriangleHits(const TriangleHitQuery *queries, size_t count, const Vec3 
 } // namespace detail
 
 void fillTriangleHits(const TriangleHitQuery *queries, size_t count, const Vec3 &frameOrigin) {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  detail::fillTriangleHits(queries, count, frameOrigin, avx2);
+  detail::fillTriangleHits(queries, count, frameOrigin, cpuHasAvx2());
 }
 
 } // namespace lray

@@ -95,7 +95,7 @@ inline OwenScramble owenScramble(uint64_t seed) {
 /// the pixel's scramble made ahead: the same values. The tile loop takes
 /// sample s of a tile's pixels in turn, so it reverses s once for all of
 /// them and makes each pixel's scramble once for all of its samples
-/// (owen_sobol_lanes.h).
+/// (render/owen_sobol_lanes.h).
 [[gnu::always_inline]] inline void owenSobol2DReversed(uint32_t reversedIndex,
                                                         const OwenScramble &scramble, double &x,
                                                         double &y) {

@@ -1,2 +1,1 @@
-list(APPEND LRAY_CORE_SOURCES src/math/transform.cpp src/math/transform_motion.cpp
-     src/math/owen_sobol_lanes.cpp)
+list(APPEND LRAY_CORE_SOURCES src/math/transform.cpp src/math/transform_motion.cpp)

@@ -1,3 +1,2 @@
 list(APPEND LRAY_TEST_SOURCES tests/math/transform_test.cpp tests/math/random_test.cpp
-     tests/math/transform_motion_test.cpp tests/math/next_double_test.cpp
-     tests/math/owen_sobol_lanes_test.cpp)
+     tests/math/transform_motion_test.cpp tests/math/next_double_test.cpp)

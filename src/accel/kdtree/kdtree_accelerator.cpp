@@ -7,6 +7,7 @@
 #include "accel/kdtree/watertight_triangle.h"
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
+#include "util/cpu_features.h"
 
 #include <tbb/parallel_for.h>
 

@@ -140,12 +140,9 @@ inline uint64_t prefilterLeaf(const PrefilterRay &ray, const TrianglePacket *pac
   return lanes & leafLanes(count);
 }
 
-/// True when the CPU runs AVX2 (prefilterLeafAvx2 may be called).
-bool cpuHasAvx2();
-
 /// prefilterPacket for the first `count` (1 to 64) triangles of consecutive
 /// packets (bit i: triangle i), eight at a time with AVX2 in one call: call
-/// only where cpuHasAvx2().
+/// only where cpuHasAvx2() (util/cpu_features.h).
 template <int Kz>
 uint64_t prefilterLeafAvx2(const PrefilterRay &ray, const TrianglePacket *packets,
                            uint32_t count);

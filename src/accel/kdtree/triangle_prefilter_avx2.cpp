@@ -12,11 +12,6 @@
 
 namespace lray {
 
-bool cpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
-
 // Every function below carries the target attribute (GCC and clang both
 // honour it; clang ignores GCC's target pragma). Helpers rather than
 // lambdas: a lambda would not inherit the target.

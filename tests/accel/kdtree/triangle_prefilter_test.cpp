@@ -4,6 +4,7 @@
 // AVX2 version (triangle_prefilter_avx2.cpp) agrees lane by lane.
 #include "accel/kdtree/triangle_prefilter.h"
 #include "accel/kdtree/kdtree_test_util.h"
+#include "util/cpu_features.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,8 @@
-// Pipeline: shared math. owenSobol2DLanes (owen_sobol_lanes.h): the scalar
+// Pipeline: render. owenSobol2DLanes (owen_sobol_lanes.h): the scalar
 // path, and the same arithmetic in eight 32-bit AVX2 lanes.
-#include "math/owen_sobol_lanes.h"
+#include "render/owen_sobol_lanes.h"
+
+#include "util/cpu_features.h"
 
 #include <immintrin.h>
 
@@ -90,16 +92,11 @@ void owenSobol2DLanes(uint32_t reversedIndex, const OwenRows &rows, size_t count
     owenSobol2DReversed(reversedIndex, {rows.shuffle[k], rows.sx[k], rows.sy[k]}, u[k], v[k]);
 }
 
-bool hasAvx2() {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
-
 } // namespace detail
 
 void owenSobol2DLanes(uint32_t reversedIndex, const OwenRows &rows, size_t count, double *u,
                       double *v) {
-  detail::owenSobol2DLanes(reversedIndex, rows, count, u, v, detail::hasAvx2());
+  detail::owenSobol2DLanes(reversedIndex, rows, count, u, v, cpuHasAvx2());
 }
 
 } // namespace lray

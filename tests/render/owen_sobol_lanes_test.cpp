@@ -1,8 +1,9 @@
-// Tests for src/math/owen_sobol_lanes: the tile loop's eight-lane pixel
+// Tests for src/render/owen_sobol_lanes: the tile loop's eight-lane pixel
 // positions are owenSobol2D's, bit for bit, on either path.
-#include "math/owen_sobol_lanes.h"
+#include "render/owen_sobol_lanes.h"
 
 #include "math/mix64.h"
+#include "util/cpu_features.h"
 
 #include <gtest/gtest.h>
 
@@ -60,7 +61,7 @@ void checkPath(bool avx2) {
 TEST(OwenSobol2DLanes, ScalarPathIsOwenSobol2D) { checkPath(false); }
 
 TEST(OwenSobol2DLanes, Avx2PathIsOwenSobol2D) {
-  if (!detail::hasAvx2()) GTEST_SKIP() << "this CPU has no AVX2";
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU has no AVX2";
   checkPath(true);
 }
 

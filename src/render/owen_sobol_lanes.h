@@ -1,4 +1,4 @@
-// Pipeline: shared math. The tile loop's pixel positions eight at a time:
+// Pipeline: render. The tile loop's pixel positions eight at a time:
 // owenSobol2DReversed (owen_sobol.h) for up to eight pixels at one sample
 // index, in AVX2 lanes where the CPU has them. The bit reversals and hash
 // multiplications of one position are most of a camera sample's own cost
@@ -46,7 +46,6 @@ namespace detail {
 /// the CPU has it) or one position at a time. Tests compare the two.
 void owenSobol2DLanes(uint32_t reversedIndex, const OwenRows &rows, size_t count, double *u,
                       double *v, bool avx2);
-bool hasAvx2();
 } // namespace detail
 
 } // namespace lray

@@ -101,8 +101,9 @@ template <class Integ> struct TileWork {
   /// positions, lens points and times (the last two when the camera has
   /// them), the offset of its light strata.
   std::array<uint64_t, kTilePixels> samplerKey, pattern, lensPattern, timePattern;
-  /// owenScramble(pattern) as rows (OwenRows), padded so that eight lanes
-  /// can be read from any pixel.
+  /// owenScramble(pattern) as rows (OwenRows; not set for a pass of pixel
+  /// centres, which needs none), padded so that eight lanes can be read
+  /// from any pixel.
   std::array<uint32_t, kTilePixels + kOwenLanes> shuffle{}, sx{}, sy{};
   std::array<uint32_t, kTilePixels> stratumOffset;
   std::array<int, kTilePixels> x, y; ///< the tile pixel's image coordinates
@@ -172,10 +173,12 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const uint64_t pixel = static_cast<uint64_t>(work.y[i]) * settings.width + work.x[i];
       work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
       work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
-      const OwenScramble scramble = owenScramble(work.pattern[i]);
-      work.shuffle[i] = scramble.shuffle;
-      work.sx[i] = scramble.sx;
-      work.sy[i] = scramble.sy;
+      if (!centres) {
+        const OwenScramble scramble = owenScramble(work.pattern[i]);
+        work.shuffle[i] = scramble.shuffle;
+        work.sx[i] = scramble.sx;
+        work.sy[i] = scramble.sy;
+      }
       if (camera.hasLens())
         work.lensPattern[i] = tile_detail::lensPatternSeed(settings.stream(), pixel);
       if (camera.timed())

@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "shading/image_cache.h"
 #include "shading/integrator_options.h"
+#include "shading/light_lanes.h"
 #include "shading/material_table.h"
 #include "shading/pigment.h"
 #include "shading/ray_counts.h"
@@ -70,6 +71,7 @@ public:
 
   /// Most camera rays of one shadeTile call.
   static constexpr size_t kMaxTileRays = 256;
+  static_assert(LightLanes::kMax == kMaxTileRays);
 
   /// shadeHit for the camera rays of a tile at once: out[i] is the colour
   /// of ray i (the background where found[i] is 0), with the same values,
@@ -138,6 +140,9 @@ private:
     uint8_t *blocked;
     SpawnOrigins *origins; ///< per point: where its shadow rays start
     Vec3 *targets;         ///< per light sample: where it lies
+    /// A tile's lit points in lanes, for the Lights that can take them
+    /// (addLightInLanes); null: every light one point at a time.
+    LightLanes *lanes = nullptr;
   };
   struct TileScratch;
 
@@ -155,6 +160,12 @@ private:
   void addDirectLight(const Hit *hits, const Surface *surfaces, const uint8_t *found,
                       Sampler *samplers, size_t count, bool coherent, const LightScratch &scratch,
                       Color *sums, RayCounts &counts) const;
+
+  /// addDirectLight's loop for a still Light whose every cell each point
+  /// samples (no spread shares), on lanes.count points in lanes: the same
+  /// draws, rays, counts and sums, cell by cell.
+  void addLightInLanes(const Light::Sampler &light, LightLanes &lanes, Sampler *samplers,
+                       const LightScratch &scratch, Color *sums, RayCounts &counts) const;
 
   /// shade after the ambient and direct light (`c`): adds what the
   /// reflected and refracted rays bring.

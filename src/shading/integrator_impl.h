@@ -88,9 +88,27 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
   // of its surface they leave), for all the lights' samples.
   for (size_t i = 0; i < count; ++i)
     if ((!found || found[i]) && surfaces[i].m->lit) scratch.origins[i] = spawnOrigins(hits[i]);
+  bool inLanes = false; // scratch.lanes holds the lit points
   for (const LightSampler &light : lights_) {
     std::visit(
         [&](const auto &source) {
+          using Source = std::decay_t<decltype(source)>;
+          if constexpr (std::is_same_v<Source, Light::Sampler>) {
+            if (scratch.lanes && lightShares_ == 1 && !source.moves()) {
+              if (!inLanes) {
+                scratch.lanes->clear();
+                for (size_t i = 0; i < count; ++i) {
+                  const Surface &s = surfaces[i];
+                  if ((!found || found[i]) && s.m->lit)
+                    scratch.lanes->add(static_cast<uint32_t>(i), hits[i], scratch.origins[i], s.n,
+                                       s.v, s.pigment, *s.m);
+                }
+                inLanes = true;
+              }
+              addLightInLanes(source, *scratch.lanes, samplers, scratch, sums, counts);
+              return;
+            }
+          }
           // No store below aliases the light, the hits or the surfaces: the
           // sample's loop-invariant parts stay in registers.
           typename LightScratch::Pending *__restrict pending = scratch.pending;
@@ -100,7 +118,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           size_t shadow = 0;
           // Every sample of the light brings the same light (its own colour
           // need not be stored or tested per shadow ray).
-          constexpr bool kUniform = std::decay_t<decltype(source)>::kUniformColor;
+          constexpr bool kUniform = Source::kUniformColor;
           const int cells = source.sampleCount();
           // Spread light sampling: this sample shades one share of the cells.
           const int shares = static_cast<int>(std::min<uint32_t>(lightShares_, cells));
@@ -186,6 +204,76 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
 }
 
 template <class Accel>
+void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes &lanes,
+                                        Sampler *samplers, const LightScratch &scratch,
+                                        Color *sums, RayCounts &counts) const {
+  const LightGrid grid = light.grid();
+  const Color &lightColor = light.uniformColor();
+  Ray *__restrict shadowRays = scratch.shadowRays;
+  uint8_t *__restrict blocked = scratch.blocked;
+  // The lane of each shadow ray written (shadowRays[n] is lane rayLane[n].ray).
+  typename LightScratch::Pending *__restrict rayLane = scratch.pending;
+  for (size_t j = 0; j < lanes.count; ++j) {
+    const Color &sum = sums[lanes.point[j]];
+    lanes.sr[j] = sum.r, lanes.sg[j] = sum.g, lanes.sb[j] = sum.b;
+  }
+  for (int row = 0; row < light.rows(); ++row) {
+    for (int col = 0; col < light.cols(); ++col) {
+      for (size_t j = 0; j < lanes.count; ++j)
+        light.place(row, col, samplers[lanes.point[j]], lanes.ax[j], lanes.az[j]);
+      const LightRound round = lightLanesRound(lanes, grid);
+      if (round.valid == 0) continue;
+      size_t n = 0;
+      auto writeRays = [&] {
+        for (size_t j = 0; j < lanes.count; ++j) {
+          if (!lanes.valid[j]) continue;
+          Ray &ray = shadowRays[n];
+          ray.o = {lanes.ox[j], lanes.oy[j], lanes.oz[j]};
+          ray.d = {lanes.dx[j], lanes.dy[j], lanes.dz[j]};
+          ray.tMin = 0;
+          ray.tMax = 1;
+          ray.time = lanes.time[j];
+          rayLane[n].ray = static_cast<uint32_t>(j);
+          ++n;
+        }
+      };
+      // As addDirectLight: nothing in the shaft, every ray is clear; a few
+      // analytic objects in it, test those alone.
+      ShadowShafts::Candidates candidates;
+      if (shafts_.enabled()) {
+        if (round.finite) {
+          candidates = shafts_.candidates(round.from, round.to);
+        } else {
+          writeRays();
+          Bounds3 from, to;
+          shaftEnds(shadowRays, n, from, to);
+          candidates = shafts_.candidates(from, to);
+        }
+      }
+      if (candidates.clear) {
+        addLit(lanes, lightColor, lanes.valid);
+        counts.shadowSkipped += round.valid;
+        continue;
+      }
+      if (n == 0) writeRays();
+      counts.shadow += n;
+      if (candidates.direct) {
+        for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, shadowRays[k]);
+      } else {
+        accel_.occludedCoherent(shadowRays, n, blocked);
+      }
+      // Which lanes' rays are clear (blocked[] is by ray).
+      uint8_t *clear = lanes.clearRay;
+      std::fill_n(clear, lanes.count, uint8_t{0});
+      for (size_t k = 0; k < n; ++k) clear[rayLane[k].ray] = !blocked[k];
+      addLit(lanes, lightColor, clear);
+    }
+  }
+  for (size_t j = 0; j < lanes.count; ++j)
+    sums[lanes.point[j]] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
+}
+
+template <class Accel>
 Color Integrator<Accel>::shade(const Ray &ray, const Hit &hit, int depth, double weight,
                                Sampler &sampler, RayCounts &counts) const {
   Surface s;
@@ -235,6 +323,7 @@ template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<uint8_t, kMaxTileRays> blocked;
   std::array<SpawnOrigins, kMaxTileRays> origins;
   std::array<Vec3, kMaxTileRays> targets;
+  LightLanes lanes;
 };
 
 template <class Accel>
@@ -255,7 +344,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   }
   addDirectLight(hits, surface.data(), found, samplers, count, true,
                  {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
-                  scratch.origins.data(), scratch.targets.data()},
+                  scratch.origins.data(), scratch.targets.data(), &scratch.lanes},
                  lightSum.data(), counts);
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {

@@ -11,12 +11,17 @@
 #include "shading/lights/light_motion.h"
 #include "shading/lights/light_sample.h"
 #include "util/scene_error.h"
-#include "shading/lights/light_sample.h"
 
 #include <cstdint>
 #include <string>
 
 namespace lray {
+
+/// Where a Light's cells lie in the world (Light::Sampler): cell (row,
+/// col) spans corner + cellX * [col, col + 1] + cellZ * [row, row + 1].
+struct LightGrid {
+  Vec3 corner, cellX, cellZ;
+};
 
 struct Light {
   static constexpr const char *kName = "Light";
@@ -58,13 +63,26 @@ struct Light {
     /// Sample k (cell row k / cols, column k % cols): its jitter, for area
     /// lights, drawn from `random` (x then z); the colour is colour / cells.
     LightSample sample(int k, const Vec3 &, lray::Sampler &random) const {
-      const int row = k / cols_, col = k % cols_;
-      double fx = 0.5, fz = 0.5;
-      if (area_) random.next2D(fx, fz);
-      const Vec3 target = corner_ + cellX_ * (col + fx) + cellZ_ * (row + fz);
+      double a, b;
+      place(k / cols_, k % cols_, random, a, b);
+      const Vec3 target = corner_ + cellX_ * a + cellZ_ * b;
       if (!motion_) return {target, weightedColor_};
       return {target + motion_->at(random.time), weightedColor_};
     }
+    /// Where in cell (row, col) a sample lies, in cells along cellX (`a`)
+    /// and cellZ (`b`): the centre, or for area lights jittered by `random`.
+    void place(int row, int col, lray::Sampler &random, double &a, double &b) const {
+      double fx = 0.5, fz = 0.5;
+      if (area_) random.next2D(fx, fz);
+      a = col + fx;
+      b = row + fz;
+    }
+    int rows() const { return rows_; }
+    int cols() const { return cols_; }
+    /// The cells in the world: a sample at place (a, b) lies at corner +
+    /// cellX * a + cellZ * b (while the light does not move).
+    LightGrid grid() const { return {corner_, cellX_, cellZ_}; }
+    bool moves() const { return motion_ != nullptr; }
 
     /// A light that moves while the shutter is open: each sample is taken
     /// where it is at the sample's time (lray::Sampler::time).

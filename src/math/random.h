@@ -42,9 +42,20 @@ public:
   /// Uniform double in [0, 1).
   double next() {
     if (stratified_) return nextStratified();
-    uint64_t bits = mix64(key_ + 0x9e3779b97f4a7c15ULL * ++dim_);
+    return independent(key_, ++dim_);
+  }
+  /// The number of dimension `dim` (1, 2, ...) of the stream keyed `key`
+  /// before stratify(): what lanes of samplers draw side by side
+  /// (shading/light_lanes.cpp).
+  static double independent(uint64_t key, uint64_t dim) {
+    const uint64_t bits = mix64(key + 0x9e3779b97f4a7c15ULL * dim);
     return static_cast<double>(bits >> 11) * 0x1.0p-53;
   }
+  bool stratified() const { return stratified_; }
+  /// How many numbers have been drawn; advance(n): n more were drawn
+  /// outside (by independent(key(), drawn() + 1), ...).
+  uint64_t drawn() const { return dim_; }
+  void advance(uint64_t n) { dim_ += n; }
   /// Two numbers that belong together (a point on a light, a direction):
   /// stratified jointly after stratify(); else next() twice.
   void next2D(double &u, double &v) {

@@ -217,15 +217,22 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
     const Color &sum = sums[lanes.point[j]];
     lanes.sr[j] = sum.r, lanes.sg[j] = sum.g, lanes.sb[j] = sum.b;
   }
+  // The jitter drawn in lanes too, unless a point's sampler is stratified.
+  const bool drawInLanes = loadSamplers(lanes, samplers);
+  const LaneSpan span{0, lanes.count};
   for (int row = 0; row < light.rows(); ++row) {
     for (int col = 0; col < light.cols(); ++col) {
-      for (size_t j = 0; j < lanes.count; ++j)
-        light.place(row, col, samplers[lanes.point[j]], lanes.ax[j], lanes.az[j]);
-      const LightRound round = lightLanesRound(lanes, grid);
+      if (drawInLanes) {
+        placeLanes(lanes, span, light, row, col);
+      } else {
+        for (size_t j = span.begin; j < span.end; ++j)
+          light.place(row, col, samplers[lanes.point[j]], lanes.ax[j], lanes.az[j]);
+      }
+      const LightRound round = lightLanesRound(lanes, span, grid);
       if (round.valid == 0) continue;
       size_t n = 0;
       auto writeRays = [&] {
-        for (size_t j = 0; j < lanes.count; ++j) {
+        for (size_t j = span.begin; j < span.end; ++j) {
           if (!lanes.valid[j]) continue;
           Ray &ray = shadowRays[n];
           ray.o = {lanes.ox[j], lanes.oy[j], lanes.oz[j]};
@@ -251,7 +258,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
         }
       }
       if (candidates.clear) {
-        addLit(lanes, lightColor, lanes.valid);
+        addLit(lanes, span, lightColor, lanes.valid);
         counts.shadowSkipped += round.valid;
         continue;
       }
@@ -264,13 +271,14 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
       }
       // Which lanes' rays are clear (blocked[] is by ray).
       uint8_t *clear = lanes.clearRay;
-      std::fill_n(clear, lanes.count, uint8_t{0});
+      std::fill(clear + span.begin, clear + span.end, uint8_t{0});
       for (size_t k = 0; k < n; ++k) clear[rayLane[k].ray] = !blocked[k];
-      addLit(lanes, lightColor, clear);
+      addLit(lanes, span, lightColor, clear);
     }
   }
   for (size_t j = 0; j < lanes.count; ++j)
     sums[lanes.point[j]] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
+  if (drawInLanes) storeSamplers(lanes, samplers);
 }
 
 template <class Accel>

@@ -61,8 +61,8 @@ void roundLane(LightLanes &s, const LightGrid &grid, size_t j) {
 }
 
 /// The boxes around the valid lanes' origins and ends, in lane order.
-void boundLanes(const LightLanes &s, LightRound &round) {
-  for (size_t j = 0; j < s.count; ++j) {
+void boundLanes(const LightLanes &s, LaneSpan span, LightRound &round) {
+  for (size_t j = span.begin; j < span.end; ++j) {
     if (!s.valid[j]) continue;
     ++round.valid;
     const Vec3 o(s.ox[j], s.oy[j], s.oz[j]);
@@ -73,10 +73,10 @@ void boundLanes(const LightLanes &s, LightRound &round) {
   }
 }
 
-LightRound roundScalar(LightLanes &s, const LightGrid &grid) {
-  for (size_t j = 0; j < s.count; ++j) roundLane(s, grid, j);
+LightRound roundScalar(LightLanes &s, LaneSpan span, const LightGrid &grid) {
+  for (size_t j = span.begin; j < span.end; ++j) roundLane(s, grid, j);
   LightRound round;
-  boundLanes(s, round);
+  boundLanes(s, span, round);
   return round;
 }
 
@@ -97,16 +97,8 @@ LRAY_AVX2 inline __m256d select(__m256d mask, __m256d ifTrue, __m256d ifFalse) {
   return _mm256_blendv_pd(ifFalse, ifTrue, mask);
 }
 
-/// The running boxes of the valid lanes' origins and ends (shaftEnds's),
-/// and whether one of those was not finite.
-struct BoundLanes4 {
-  __m256d lo[6], hi[6]; ///< ox, oy, oz, then the ends'
-  __m256d notFinite;
-};
-
-/// Lanes j..j+3 (some past count: they are made invalid).
-LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j,
-                                  BoundLanes4 &bounds) {
+/// Lanes j..j+3 (some at or past `end`: they are made invalid).
+LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j, size_t end) {
   const __m256d ax = at(s.ax, j), az = at(s.az, j);
   const __m256d tx = all(grid.corner.x) + all(grid.cellX.x) * ax + all(grid.cellZ.x) * az;
   const __m256d ty = all(grid.corner.y) + all(grid.cellX.y) * ax + all(grid.cellZ.y) * az;
@@ -119,7 +111,7 @@ LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j
   const __m256i lane = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<int64_t>(j)),
                                         _mm256_setr_epi64x(0, 1, 2, 3));
   const __m256d inUse = _mm256_castsi256_pd(
-      _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<int64_t>(s.count)), lane));
+      _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<int64_t>(end)), lane));
   const __m256d valid =
       _mm256_and_pd(inUse, _mm256_and_pd(_mm256_cmp_pd(dist, all(0), _CMP_GT_OQ),
                                          _mm256_cmp_pd(nl, all(0), _CMP_NLE_UQ)));
@@ -135,15 +127,6 @@ LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j
   const __m256d dx = tx - ox, dy = ty - oy, dz = tz - oz;
   put(s.ox, j, ox), put(s.oy, j, oy), put(s.oz, j, oz);
   put(s.dx, j, dx), put(s.dy, j, dy), put(s.dz, j, dz);
-  const __m256d ends[6] = {ox, oy, oz, ox + dx, oy + dy, oz + dz};
-  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
-  for (int k = 0; k < 6; ++k) {
-    bounds.lo[k] = select(valid, _mm256_min_pd(bounds.lo[k], ends[k]), bounds.lo[k]);
-    bounds.hi[k] = select(valid, _mm256_max_pd(bounds.hi[k], ends[k]), bounds.hi[k]);
-    const __m256d finite = _mm256_cmp_pd(_mm256_and_pd(ends[k], magnitude),
-                                         all(std::numeric_limits<double>::max()), _CMP_LE_OQ);
-    bounds.notFinite = _mm256_or_pd(bounds.notFinite, _mm256_andnot_pd(finite, valid));
-  }
 
   // phongColor: diffuse N.L, plus specular * specularPower(R.V) where
   // the specular is not 0.
@@ -177,49 +160,77 @@ LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j
   put(s.cr, j, cr), put(s.cg, j, cg), put(s.cb, j, cb);
 }
 
-/// Every lane, then phongColor's std::pow lane by lane where the exponent
-/// is no small integer (c += specular * power).
-LRAY_AVX2 void roundAvx2(LightLanes &s, const LightGrid &grid, LightRound &round) {
-  BoundLanes4 bounds;
-  for (int k = 0; k < 6; ++k) {
-    bounds.lo[k] = all(std::numeric_limits<double>::infinity());
-    bounds.hi[k] = all(-std::numeric_limits<double>::infinity());
+/// The lanes among j..j+3 whose flag is not 0, as a mask.
+LRAY_AVX2 inline __m256d flagged(const uint8_t *flags, size_t j) {
+  int32_t bytes;
+  std::memcpy(&bytes, flags + j, sizeof bytes);
+  return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes)),
+                                                _mm256_setzero_si256()));
+}
+
+/// One axis of the boxes around the valid lanes' origins (o = o[]) and
+/// ends (o + d): lo and hi of each, reduced over the lanes. `finite`
+/// turns false where a valid value is not finite.
+LRAY_AVX2 void boundAxis(const LightLanes &s, LaneSpan span, const double *o, const double *d,
+                         double (&lo)[2], double (&hi)[2], bool &finite) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
+  __m256d oLo = all(inf), oHi = all(-inf), eLo = all(inf), eHi = all(-inf);
+  __m256d notFinite = _mm256_setzero_pd();
+  for (size_t j = span.begin; j < span.end; j += 4) {
+    const __m256d valid = flagged(s.valid, j);
+    const __m256d origin = at(o, j), end = origin + at(d, j);
+    oLo = select(valid, _mm256_min_pd(oLo, origin), oLo);
+    oHi = select(valid, _mm256_max_pd(oHi, origin), oHi);
+    eLo = select(valid, _mm256_min_pd(eLo, end), eLo);
+    eHi = select(valid, _mm256_max_pd(eHi, end), eHi);
+    for (__m256d v : {origin, end}) {
+      const __m256d ok = _mm256_cmp_pd(_mm256_and_pd(v, magnitude),
+                                       all(std::numeric_limits<double>::max()), _CMP_LE_OQ);
+      notFinite = _mm256_or_pd(notFinite, _mm256_andnot_pd(ok, valid));
+    }
   }
-  bounds.notFinite = _mm256_setzero_pd();
-  for (size_t j = 0; j < s.count; j += 4) roundLanes4(s, grid, j, bounds);
-  for (size_t j = 0; j < s.count; ++j) {
+  alignas(32) double lanes[4][4];
+  _mm256_store_pd(lanes[0], oLo), _mm256_store_pd(lanes[1], oHi);
+  _mm256_store_pd(lanes[2], eLo), _mm256_store_pd(lanes[3], eHi);
+  finite = finite && _mm256_movemask_pd(notFinite) == 0;
+  for (int k = 0; k < 2; ++k) {
+    const double *l = lanes[2 * k], *h = lanes[2 * k + 1];
+    lo[k] = std::min(std::min(l[0], l[1]), std::min(l[2], l[3]));
+    hi[k] = std::max(std::max(h[0], h[1]), std::max(h[2], h[3]));
+  }
+}
+
+/// Every lane, then phongColor's std::pow lane by lane where the exponent
+/// is no small integer (c += specular * power), then the boxes.
+LRAY_AVX2 void roundAvx2(LightLanes &s, LaneSpan span, const LightGrid &grid, LightRound &round) {
+  for (size_t j = span.begin; j < span.end; j += 4) roundLanes4(s, grid, j, span.end);
+  for (size_t j = span.begin; j < span.end; ++j) {
     round.valid += s.valid[j];
     if (!s.valid[j] || s.exponent[j] >= 0 || s.specular[j] == 0) continue;
     const double highlight = s.specular[j] * specularPower(s.rv[j], *s.material[j]);
     s.cr[j] += highlight, s.cg[j] += highlight, s.cb[j] += highlight;
   }
-  alignas(32) double lo[6][4], hi[6][4];
-  for (int k = 0; k < 6; ++k) {
-    _mm256_store_pd(lo[k], bounds.lo[k]);
-    _mm256_store_pd(hi[k], bounds.hi[k]);
+  if (round.valid > 0) {
+    double lo[3][2], hi[3][2]; // per axis: origins, ends
+    boundAxis(s, span, s.ox, s.dx, lo[0], hi[0], round.finite);
+    boundAxis(s, span, s.oy, s.dy, lo[1], hi[1], round.finite);
+    boundAxis(s, span, s.oz, s.dz, lo[2], hi[2], round.finite);
+    round.from = {{lo[0][0], lo[1][0], lo[2][0]}, {hi[0][0], hi[1][0], hi[2][0]}};
+    round.to = {{lo[0][1], lo[1][1], lo[2][1]}, {hi[0][1], hi[1][1], hi[2][1]}};
   }
-  round.finite = _mm256_movemask_pd(bounds.notFinite) == 0;
   // The caller's SSE code would otherwise run with the upper halves dirty
   // (GCC left them so on one path out, and every SSE instruction after it
   // paid for that, through the rest of the render).
   _mm256_zeroupper();
-  double box[2][6];
-  for (int k = 0; k < 6; ++k) {
-    box[0][k] = std::min(std::min(lo[k][0], lo[k][1]), std::min(lo[k][2], lo[k][3]));
-    box[1][k] = std::max(std::max(hi[k][0], hi[k][1]), std::max(hi[k][2], hi[k][3]));
-  }
-  round.from = {{box[0][0], box[0][1], box[0][2]}, {box[1][0], box[1][1], box[1][2]}};
-  round.to = {{box[0][3], box[0][4], box[0][5]}, {box[1][3], box[1][4], box[1][5]}};
 }
 
 /// sums += lightColor * c in each lane where add[j] (4 lanes at a time).
-LRAY_AVX2 void addLitAvx2(LightLanes &s, const Color &lightColor, const uint8_t *add) {
+LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const Color &lightColor,
+                          const uint8_t *add) {
   const __m256d lr = all(lightColor.r), lg = all(lightColor.g), lb = all(lightColor.b);
-  for (size_t j = 0; j < s.count; j += 4) {
-    int32_t bytes;
-    std::memcpy(&bytes, add + j, sizeof bytes);
-    const __m256d on = _mm256_castsi256_pd(_mm256_cmpgt_epi64(
-        _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes)), _mm256_setzero_si256()));
+  for (size_t j = span.begin; j < span.end; j += 4) {
+    const __m256d on = flagged(add, j);
     put(s.sr, j, select(on, at(s.sr, j) + lr * at(s.cr, j), at(s.sr, j)));
     put(s.sg, j, select(on, at(s.sg, j) + lg * at(s.cg, j), at(s.sg, j)));
     put(s.sb, j, select(on, at(s.sb, j) + lb * at(s.cb, j), at(s.sb, j)));
@@ -227,19 +238,90 @@ LRAY_AVX2 void addLitAvx2(LightLanes &s, const Color &lightColor, const uint8_t 
   _mm256_zeroupper();
 }
 
+/// 64-bit products' low halves in each lane (AVX2 multiplies 32 bits).
+LRAY_AVX2 inline __m256i mul64(__m256i a, __m256i b) {
+  const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(a, _mm256_srli_epi64(b, 32)),
+                                         _mm256_mul_epu32(_mm256_srli_epi64(a, 32), b));
+  return _mm256_add_epi64(_mm256_mul_epu32(a, b), _mm256_slli_epi64(cross, 32));
+}
+
+/// Sampler::independent(key, dim) in each lane: mix64, then the top 53
+/// bits converted exactly (as two halves, each by the 2^52 exponent trick)
+/// and scaled by 2^-53.
+LRAY_AVX2 inline __m256d independentLanes(__m256i key, __m256i dim) {
+  __m256i z = _mm256_add_epi64(key, mul64(_mm256_set1_epi64x(0x9e3779b97f4a7c15LL), dim));
+  z = mul64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 30)),
+            _mm256_set1_epi64x(static_cast<int64_t>(0xbf58476d1ce4e5b9ULL)));
+  z = mul64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 27)),
+            _mm256_set1_epi64x(static_cast<int64_t>(0x94d049bb133111ebULL)));
+  z = _mm256_srli_epi64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 31)), 11);
+  const __m256i lo = _mm256_blend_epi32(z, _mm256_set1_epi64x(0x4330000000000000LL), 0xaa);
+  const __m256i hi = _mm256_or_si256(_mm256_srli_epi64(z, 32),
+                                     _mm256_set1_epi64x(0x4530000000000000LL));
+  const __m256d value = (_mm256_castsi256_pd(hi) - all(0x1p84 + 0x1p52)) + _mm256_castsi256_pd(lo);
+  return value * all(0x1p-53);
+}
+
+LRAY_AVX2 void placeAvx2(LightLanes &s, LaneSpan span, int row, int col) {
+  const __m256d a0 = all(col), b0 = all(row);
+  const __m256i one = _mm256_set1_epi64x(1), two = _mm256_set1_epi64x(2);
+  for (size_t j = span.begin; j < span.end; j += 4) {
+    const __m256i key = _mm256_load_si256(reinterpret_cast<const __m256i *>(s.key + j));
+    const __m256i drawn = _mm256_load_si256(reinterpret_cast<const __m256i *>(s.drawn + j));
+    put(s.ax, j, a0 + independentLanes(key, _mm256_add_epi64(drawn, one)));
+    put(s.az, j, b0 + independentLanes(key, _mm256_add_epi64(drawn, two)));
+    _mm256_store_si256(reinterpret_cast<__m256i *>(s.drawn + j), _mm256_add_epi64(drawn, two));
+  }
+  _mm256_zeroupper();
+}
+
 } // namespace
 
+bool loadSamplers(LightLanes &lanes, const Sampler *samplers) {
+  for (size_t j = 0; j < lanes.count; ++j) {
+    const Sampler &sampler = samplers[lanes.point[j]];
+    if (sampler.stratified()) return false;
+    lanes.key[j] = sampler.key();
+    lanes.drawn[j] = sampler.drawn();
+  }
+  return true;
+}
+
+void storeSamplers(const LightLanes &lanes, Sampler *samplers) {
+  for (size_t j = 0; j < lanes.count; ++j) {
+    Sampler &sampler = samplers[lanes.point[j]];
+    sampler.advance(lanes.drawn[j] - sampler.drawn());
+  }
+}
+
 namespace detail {
-LightRound lightLanesRound(LightLanes &lanes, const LightGrid &grid, bool avx2) {
-  if (!avx2) return roundScalar(lanes, grid);
+void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col,
+                bool avx2) {
+  if (!light.area()) { // the cell's centre (Light::Sampler::place)
+    std::fill(lanes.ax + span.begin, lanes.ax + span.end, col + 0.5);
+    std::fill(lanes.az + span.begin, lanes.az + span.end, row + 0.5);
+    return;
+  }
+  if (avx2) return placeAvx2(lanes, span, row, col);
+  for (size_t j = span.begin; j < span.end; ++j) {
+    const uint64_t drawn = lanes.drawn[j];
+    lanes.ax[j] = col + Sampler::independent(lanes.key[j], drawn + 1);
+    lanes.az[j] = row + Sampler::independent(lanes.key[j], drawn + 2);
+    lanes.drawn[j] = drawn + 2;
+  }
+}
+
+LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid, bool avx2) {
+  if (!avx2) return roundScalar(lanes, span, grid);
   LightRound round;
-  roundAvx2(lanes, grid, round);
+  roundAvx2(lanes, span, grid, round);
   return round;
 }
 
-void addLit(LightLanes &lanes, const Color &lightColor, const uint8_t *add, bool avx2) {
-  if (avx2) return addLitAvx2(lanes, lightColor, add);
-  for (size_t j = 0; j < lanes.count; ++j) {
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add,
+            bool avx2) {
+  if (avx2) return addLitAvx2(lanes, span, lightColor, add);
+  for (size_t j = span.begin; j < span.end; ++j) {
     if (!add[j]) continue;
     const Color lit = lightColor * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]);
     lanes.sr[j] += lit.r, lanes.sg[j] += lit.g, lanes.sb[j] += lit.b;
@@ -247,12 +329,16 @@ void addLit(LightLanes &lanes, const Color &lightColor, const uint8_t *add, bool
 }
 } // namespace detail
 
-LightRound lightLanesRound(LightLanes &lanes, const LightGrid &grid) {
-  return detail::lightLanesRound(lanes, grid, cpuHasAvx2());
+LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid) {
+  return detail::lightLanesRound(lanes, span, grid, cpuHasAvx2());
 }
 
-void addLit(LightLanes &lanes, const Color &lightColor, const uint8_t *add) {
-  detail::addLit(lanes, lightColor, add, cpuHasAvx2());
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add) {
+  detail::addLit(lanes, span, lightColor, add, cpuHasAvx2());
+}
+
+void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col) {
+  detail::placeLanes(lanes, span, light, row, col, cpuHasAvx2());
 }
 
 } // namespace lray

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "math/bounds.h"
+#include "math/random.h"
 #include "math/spawn.h"
 #include "math/vec3.h"
 #include "shading/lights/light.h"
@@ -43,6 +44,9 @@ struct LightLanes {
   // Per round, in: the sample's place on the grid, in cells (col + jitter,
   // row + jitter).
   alignas(32) double ax[kMax], az[kMax];
+  // The points' samplers while the lanes draw their jitter (loadSamplers
+  // to storeSamplers): key and numbers drawn.
+  alignas(32) uint64_t key[kMax], drawn[kMax];
 
   // Per round, out (lanes with valid[j] only): the shadow ray (tMax 1) and
   // the colour before the light's, pigment * diffuse * N.L plus the
@@ -71,6 +75,22 @@ struct LightLanes {
            const Vec3 &v, const Color &pigment, const Material &m);
 };
 
+/// Lanes begin <= j < end (begin a multiple of 4): the points a round
+/// works on (the integrator gives all of a tile's).
+struct LaneSpan {
+  size_t begin, end;
+};
+
+/// Whether the lanes can draw their points' jitter themselves (every
+/// point's sampler is an independent stream, not stratified): then they
+/// take the samplers' keys and counts, for placeLanes.
+bool loadSamplers(LightLanes &lanes, const Sampler *samplers);
+/// The numbers placeLanes drew, counted in the points' samplers.
+void storeSamplers(const LightLanes &lanes, Sampler *samplers);
+/// ax and az of the lanes in `span` for cell (row, col) of `light`: what
+/// light.place gives with each point's sampler (after loadSamplers).
+void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col);
+
 /// What a round found over the valid lanes.
 struct LightRound {
   size_t valid = 0;
@@ -80,19 +100,22 @@ struct LightRound {
   Bounds3 from, to;
 };
 
-/// One round: the outputs of every lane < lanes.count from its point and
+/// One round: the outputs of the lanes in `span` from their points and
 /// (ax, az).
-LightRound lightLanesRound(LightLanes &lanes, const LightGrid &grid);
+LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid);
 
-/// The round's light at the lanes j < lanes.count where add[j] (the valid
+/// The round's light at the lanes j in `span` where add[j] (the valid
 /// ones whose shadow ray is clear): sums += lightColor * c.
-void addLit(LightLanes &lanes, const Color &lightColor, const uint8_t *add);
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add);
 
 namespace detail {
 /// lightLanesRound and addLit with the path chosen: AVX2 lanes (`avx2`,
 /// only where the CPU has it) or one lane at a time. Tests compare the two.
-LightRound lightLanesRound(LightLanes &lanes, const LightGrid &grid, bool avx2);
-void addLit(LightLanes &lanes, const Color &lightColor, const uint8_t *add, bool avx2);
+LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid, bool avx2);
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add,
+            bool avx2);
+void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col,
+                bool avx2);
 } // namespace detail
 
 } // namespace lray

@@ -114,7 +114,7 @@ void checkPath(bool avx2) {
       for (int col = 0; col < light.cols; ++col) {
         for (size_t j = 0; j < count; ++j)
           sampler.place(row, col, samplers[j], lanes.ax[j], lanes.az[j]);
-        const LightRound round = detail::lightLanesRound(lanes, sampler.grid(), avx2);
+        const LightRound round = detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
         size_t valid = 0;
         Bounds3 from, to;
         for (size_t j = 0; j < count; ++j) {
@@ -181,7 +181,7 @@ void checkNotFinite(bool avx2) {
               cs[i].pigment, *cs[i].m);
   const Light::Sampler sampler(areaLight());
   for (size_t j = 0; j < cs.size(); ++j) lanes.ax[j] = 0.5, lanes.az[j] = 0.5;
-  const LightRound round = detail::lightLanesRound(lanes, sampler.grid(), avx2);
+  const LightRound round = detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
   ASSERT_TRUE(lanes.valid[4]);
   EXPECT_FALSE(round.finite);
 }
@@ -212,12 +212,59 @@ void checkAddLit(bool avx2) {
     expected[j] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
     if (add[j]) expected[j] += light * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]);
   }
-  detail::addLit(lanes, light, add, avx2);
+  detail::addLit(lanes, {0, lanes.count}, light, add, avx2);
   for (size_t j = 0; j < lanes.count; ++j) {
     EXPECT_SAME_BITS(lanes.sr[j], expected[j].r);
     EXPECT_SAME_BITS(lanes.sg[j], expected[j].g);
     EXPECT_SAME_BITS(lanes.sb[j], expected[j].b);
   }
+}
+
+/// placeLanes draws what Light::Sampler::place draws with each point's
+/// sampler, and leaves each sampler where place leaves it; a stratified
+/// sampler keeps the drawing to the samplers themselves.
+void checkPlace(bool avx2) {
+  const std::deque<Material> ms = materials();
+  const std::vector<Case> cs = cases(LightLanes::kMax - 3, 5, ms);
+  for (bool area : {true, false}) {
+    Light light = areaLight();
+    light.area = area;
+    const Light::Sampler sampler(light);
+    static LightLanes lanes;
+    lanes.clear();
+    std::vector<Sampler> samplers, reference;
+    for (size_t i = 0; i < cs.size(); ++i) {
+      lanes.add(static_cast<uint32_t>(i), cs[i].hit, spawnOrigins(cs[i].hit), cs[i].n, cs[i].v,
+                cs[i].pigment, *cs[i].m);
+      samplers.emplace_back(3, i, 2);
+      samplers.back().next(); // a number drawn before (odd counts too)
+      if (i % 2) samplers.back().next();
+    }
+    reference = samplers;
+    ASSERT_TRUE(loadSamplers(lanes, samplers.data()));
+    for (int row = 0; row < light.rows; ++row) {
+      for (int col = 0; col < light.cols; ++col) {
+        detail::placeLanes(lanes, {0, lanes.count}, sampler, row, col, avx2);
+        for (size_t j = 0; j < lanes.count; ++j) {
+          double a, b;
+          sampler.place(row, col, reference[j], a, b);
+          EXPECT_SAME_BITS(lanes.ax[j], a);
+          EXPECT_SAME_BITS(lanes.az[j], b);
+        }
+      }
+    }
+    storeSamplers(lanes, samplers.data());
+    for (size_t j = 0; j < lanes.count; ++j) EXPECT_EQ(samplers[j].next(), reference[j].next());
+    samplers[7].stratify(0, 1);
+    EXPECT_FALSE(loadSamplers(lanes, samplers.data()));
+  }
+}
+
+TEST(LightLanes, ScalarPlace) { checkPlace(false); }
+
+TEST(LightLanes, Avx2Place) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU has no AVX2";
+  checkPlace(true);
 }
 
 TEST(LightLanes, ScalarAddLit) { checkAddLit(false); }

@@ -77,6 +77,7 @@ struct Light {
       a = col + fx;
       b = row + fz;
     }
+    bool area() const { return area_; }
     int rows() const { return rows_; }
     int cols() const { return cols_; }
     /// The cells in the world: a sample at place (a, b) lies at corner +

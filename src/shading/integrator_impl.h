@@ -94,7 +94,9 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
         [&](const auto &source) {
           using Source = std::decay_t<decltype(source)>;
           if constexpr (std::is_same_v<Source, Light::Sampler>) {
-            if (scratch.lanes && lightShares_ == 1 && !source.moves()) {
+            // One cell (a point light): copying the points into lanes
+            // costs more than the one round saves.
+            if (scratch.lanes && lightShares_ == 1 && !source.moves() && source.sampleCount() > 1) {
               if (!inLanes) {
                 scratch.lanes->clear();
                 for (size_t i = 0; i < count; ++i) {

@@ -114,7 +114,8 @@ void checkPath(bool avx2) {
       for (int col = 0; col < light.cols; ++col) {
         for (size_t j = 0; j < count; ++j)
           sampler.place(row, col, samplers[j], lanes.ax[j], lanes.az[j]);
-        const LightRound round = detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
+        const LightRound round =
+            detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
         size_t valid = 0;
         Bounds3 from, to;
         for (size_t j = 0; j < count; ++j) {

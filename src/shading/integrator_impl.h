@@ -213,8 +213,6 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
   const Color &lightColor = light.uniformColor();
   Ray *__restrict shadowRays = scratch.shadowRays;
   uint8_t *__restrict blocked = scratch.blocked;
-  // The lane of each shadow ray written (shadowRays[n] is lane rayLane[n].ray).
-  typename LightScratch::Pending *__restrict rayLane = scratch.pending;
   for (size_t j = 0; j < lanes.count; ++j) {
     const Color &sum = sums[lanes.point[j]];
     lanes.sr[j] = sum.r, lanes.sg[j] = sum.g, lanes.sb[j] = sum.b;
@@ -232,20 +230,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
       }
       const LightRound round = lightLanesRound(lanes, span, grid);
       if (round.valid == 0) continue;
-      size_t n = 0;
-      auto writeRays = [&] {
-        for (size_t j = span.begin; j < span.end; ++j) {
-          if (!lanes.valid[j]) continue;
-          Ray &ray = shadowRays[n];
-          ray.o = {lanes.ox[j], lanes.oy[j], lanes.oz[j]};
-          ray.d = {lanes.dx[j], lanes.dy[j], lanes.dz[j]};
-          ray.tMin = 0;
-          ray.tMax = 1;
-          ray.time = lanes.time[j];
-          rayLane[n].ray = static_cast<uint32_t>(j);
-          ++n;
-        }
-      };
+      size_t n = 0; // shadow rays written
       // As addDirectLight: nothing in the shaft, every ray is clear; a few
       // analytic objects in it, test those alone.
       ShadowShafts::Candidates candidates;
@@ -253,7 +238,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
         if (round.finite) {
           candidates = shafts_.candidates(round.from, round.to);
         } else {
-          writeRays();
+          n = lanes.writeRays(span, shadowRays);
           Bounds3 from, to;
           shaftEnds(shadowRays, n, from, to);
           candidates = shafts_.candidates(from, to);
@@ -264,7 +249,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
         counts.shadowSkipped += round.valid;
         continue;
       }
-      if (n == 0) writeRays();
+      if (n == 0) n = lanes.writeRays(span, shadowRays);
       counts.shadow += n;
       if (candidates.direct) {
         for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, shadowRays[k]);
@@ -274,7 +259,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
       // Which lanes' rays are clear (blocked[] is by ray).
       uint8_t *clear = lanes.clearRay;
       std::fill(clear + span.begin, clear + span.end, uint8_t{0});
-      for (size_t k = 0; k < n; ++k) clear[rayLane[k].ray] = !blocked[k];
+      for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
       addLit(lanes, span, lightColor, clear);
     }
   }

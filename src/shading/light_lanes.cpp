@@ -34,6 +34,21 @@ void LightLanes::add(uint32_t index, const Hit &hit, const SpawnOrigins &origins
     while (powerBits < 31 && (m.integerExponent >> powerBits) > 0) ++powerBits;
 }
 
+size_t LightLanes::writeRays(LaneSpan span, Ray *rays) {
+  size_t n = 0;
+  for (size_t j = span.begin; j < span.end; ++j) {
+    if (!valid[j]) continue;
+    Ray &ray = rays[n]; // field by field: see spawnRayTo
+    ray.o = {ox[j], oy[j], oz[j]};
+    ray.d = {dx[j], dy[j], dz[j]};
+    ray.tMin = 0;
+    ray.tMax = 1;
+    ray.time = time[j];
+    rayLane[n++] = static_cast<uint32_t>(j);
+  }
+  return n;
+}
+
 namespace {
 
 /// Lane j as integrator_impl.h's light loop computes one point's sample:

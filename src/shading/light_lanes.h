@@ -21,6 +21,12 @@
 
 namespace lray {
 
+/// Lanes begin <= j < end (begin a multiple of 4): the points a round
+/// works on (the integrator gives all of a tile's).
+struct LaneSpan {
+  size_t begin, end;
+};
+
 /// The lit points of a tile (set once per tile) and one round's samples,
 /// one array per coordinate; lane j is point j.
 struct LightLanes {
@@ -53,6 +59,7 @@ struct LightLanes {
   // highlight.
   uint8_t valid[kMax]; ///< the sample lies off the point and in front of it
   uint8_t clearRay[kMax]; ///< scratch for the caller: which lanes' rays are clear
+  uint32_t rayLane[kMax]; ///< the lane of each ray writeRays wrote
   alignas(32) double ox[kMax], oy[kMax], oz[kMax];
   alignas(32) double dx[kMax], dy[kMax], dz[kMax];
   alignas(32) double cr[kMax], cg[kMax], cb[kMax];
@@ -69,16 +76,13 @@ struct LightLanes {
     count = 0;
     powerBits = 0;
   }
+  /// The shadow rays of the valid lanes in `span`, to rays[0, n) in lane
+  /// order (rayLane[k]: ray k's lane); returns n.
+  size_t writeRays(LaneSpan span, Ray *rays);
   /// Lane `count` becomes this point (hit, its spawn origins and surface
   /// N, V and pigment, material m).
   void add(uint32_t index, const Hit &hit, const SpawnOrigins &origins, const Vec3 &n,
            const Vec3 &v, const Color &pigment, const Material &m);
-};
-
-/// Lanes begin <= j < end (begin a multiple of 4): the points a round
-/// works on (the integrator gives all of a tile's).
-struct LaneSpan {
-  size_t begin, end;
 };
 
 /// Whether the lanes can draw their points' jitter themselves (every

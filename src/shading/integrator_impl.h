@@ -96,7 +96,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           if constexpr (std::is_same_v<Source, Light::Sampler>) {
             // One cell (a point light): copying the points into lanes
             // costs more than the one round saves.
-            if (scratch.lanes && lightShares_ == 1 && !source.moves() && source.sampleCount() > 1) {
+            if (scratch.lanes && !source.moves() && source.sampleCount() > 1) {
               if (!inLanes) {
                 scratch.lanes->clear();
                 for (size_t i = 0; i < count; ++i) {
@@ -220,48 +220,50 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
   // The jitter drawn in lanes too, unless a point's sampler is stratified.
   const bool drawInLanes = loadSamplers(lanes, samplers);
   const LaneSpan span{0, lanes.count};
-  for (int row = 0; row < light.rows(); ++row) {
-    for (int col = 0; col < light.cols(); ++col) {
-      if (drawInLanes) {
-        placeLanes(lanes, span, light, row, col);
+  // As addDirectLight: with spread light sampling, each round a point
+  // shades one cell of its share, weighted by the share count.
+  const int cells = light.sampleCount();
+  const int shares = static_cast<int>(std::min<uint32_t>(lightShares_, cells));
+  const int rounds = (cells + shares - 1) / shares;
+  const double shareWeight = shares;
+  for (int round = 0; round < rounds; ++round) {
+    if (shares == 1 && drawInLanes)
+      placeLanes(lanes, span, light, round / light.cols(), round % light.cols());
+    else
+      placeSpread(lanes, span, light, round, shares, samplers, drawInLanes);
+    const LightRound lit = lightLanesRound(lanes, span, grid);
+    if (lit.valid == 0) continue;
+    size_t n = 0; // shadow rays written
+    // As addDirectLight: nothing in the shaft, every ray is clear; a few
+    // analytic objects in it, test those alone.
+    ShadowShafts::Candidates candidates;
+    if (shafts_.enabled()) {
+      if (lit.finite) {
+        candidates = shafts_.candidates(lit.from, lit.to);
       } else {
-        for (size_t j = span.begin; j < span.end; ++j)
-          light.place(row, col, samplers[lanes.point[j]], lanes.ax[j], lanes.az[j]);
+        n = lanes.writeRays(span, shadowRays);
+        Bounds3 from, to;
+        shaftEnds(shadowRays, n, from, to);
+        candidates = shafts_.candidates(from, to);
       }
-      const LightRound round = lightLanesRound(lanes, span, grid);
-      if (round.valid == 0) continue;
-      size_t n = 0; // shadow rays written
-      // As addDirectLight: nothing in the shaft, every ray is clear; a few
-      // analytic objects in it, test those alone.
-      ShadowShafts::Candidates candidates;
-      if (shafts_.enabled()) {
-        if (round.finite) {
-          candidates = shafts_.candidates(round.from, round.to);
-        } else {
-          n = lanes.writeRays(span, shadowRays);
-          Bounds3 from, to;
-          shaftEnds(shadowRays, n, from, to);
-          candidates = shafts_.candidates(from, to);
-        }
-      }
-      if (candidates.clear) {
-        addLit(lanes, span, lightColor, lanes.valid);
-        counts.shadowSkipped += round.valid;
-        continue;
-      }
-      if (n == 0) n = lanes.writeRays(span, shadowRays);
-      counts.shadow += n;
-      if (candidates.direct) {
-        for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, shadowRays[k]);
-      } else {
-        accel_.occludedCoherent(shadowRays, n, blocked);
-      }
-      // Which lanes' rays are clear (blocked[] is by ray).
-      uint8_t *clear = lanes.clearRay;
-      std::fill(clear + span.begin, clear + span.end, uint8_t{0});
-      for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
-      addLit(lanes, span, lightColor, clear);
     }
+    if (candidates.clear) {
+      addLit(lanes, span, lightColor, shareWeight, lanes.valid);
+      counts.shadowSkipped += lit.valid;
+      continue;
+    }
+    if (n == 0) n = lanes.writeRays(span, shadowRays);
+    counts.shadow += n;
+    if (candidates.direct) {
+      for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, shadowRays[k]);
+    } else {
+      accel_.occludedCoherent(shadowRays, n, blocked);
+    }
+    // Which lanes' rays are clear (blocked[] is by ray).
+    uint8_t *clear = lanes.clearRay;
+    std::fill(clear + span.begin, clear + span.end, uint8_t{0});
+    for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
+    addLit(lanes, span, lightColor, shareWeight, clear);
   }
   for (size_t j = 0; j < lanes.count; ++j)
     sums[lanes.point[j]] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};

@@ -56,6 +56,7 @@ namespace {
 /// and phongColor.
 void roundLane(LightLanes &s, const LightGrid &grid, size_t j) {
   s.valid[j] = 0;
+  if (!s.active[j]) return;
   const Vec3 target = grid.corner + grid.cellX * s.ax[j] + grid.cellZ * s.az[j];
   const Vec3 toLight = target - Vec3(s.px[j], s.py[j], s.pz[j]);
   const double dist = length(toLight);
@@ -112,6 +113,14 @@ LRAY_AVX2 inline __m256d select(__m256d mask, __m256d ifTrue, __m256d ifFalse) {
   return _mm256_blendv_pd(ifFalse, ifTrue, mask);
 }
 
+/// The lanes among j..j+3 whose flag is not 0, as a mask.
+LRAY_AVX2 inline __m256d flagged(const uint8_t *flags, size_t j) {
+  int32_t bytes;
+  std::memcpy(&bytes, flags + j, sizeof bytes);
+  return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes)),
+                                                _mm256_setzero_si256()));
+}
+
 /// Lanes j..j+3 (some at or past `end`: they are made invalid).
 LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j, size_t end) {
   const __m256d ax = at(s.ax, j), az = at(s.az, j);
@@ -127,9 +136,9 @@ LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j
                                         _mm256_setr_epi64x(0, 1, 2, 3));
   const __m256d inUse = _mm256_castsi256_pd(
       _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<int64_t>(end)), lane));
-  const __m256d valid =
-      _mm256_and_pd(inUse, _mm256_and_pd(_mm256_cmp_pd(dist, all(0), _CMP_GT_OQ),
-                                         _mm256_cmp_pd(nl, all(0), _CMP_NLE_UQ)));
+  const __m256d facing = _mm256_and_pd(_mm256_cmp_pd(dist, all(0), _CMP_GT_OQ),
+                                       _mm256_cmp_pd(nl, all(0), _CMP_NLE_UQ));
+  const __m256d valid = _mm256_and_pd(_mm256_and_pd(inUse, flagged(s.active, j)), facing);
   const int validBits = _mm256_movemask_pd(valid);
   for (int k = 0; k < 4; ++k) s.valid[j + k] = (validBits >> k) & 1;
   if (validBits == 0) return;
@@ -173,14 +182,6 @@ LRAY_AVX2 inline void roundLanes4(LightLanes &s, const LightGrid &grid, size_t j
     cr = select(add, cr + s3, cr), cg = select(add, cg + s3, cg), cb = select(add, cb + s3, cb);
   }
   put(s.cr, j, cr), put(s.cg, j, cg), put(s.cb, j, cb);
-}
-
-/// The lanes among j..j+3 whose flag is not 0, as a mask.
-LRAY_AVX2 inline __m256d flagged(const uint8_t *flags, size_t j) {
-  int32_t bytes;
-  std::memcpy(&bytes, flags + j, sizeof bytes);
-  return _mm256_castsi256_pd(_mm256_cmpgt_epi64(_mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes)),
-                                                _mm256_setzero_si256()));
 }
 
 /// One axis of the boxes around the valid lanes' origins (o = o[]) and
@@ -241,14 +242,15 @@ LRAY_AVX2 void roundAvx2(LightLanes &s, LaneSpan span, const LightGrid &grid, Li
 }
 
 /// sums += lightColor * c in each lane where add[j] (4 lanes at a time).
-LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const Color &lightColor,
+LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const Color &lightColor, double weight,
                           const uint8_t *add) {
   const __m256d lr = all(lightColor.r), lg = all(lightColor.g), lb = all(lightColor.b);
+  const __m256d w = all(weight);
   for (size_t j = span.begin; j < span.end; j += 4) {
     const __m256d on = flagged(add, j);
-    put(s.sr, j, select(on, at(s.sr, j) + lr * at(s.cr, j), at(s.sr, j)));
-    put(s.sg, j, select(on, at(s.sg, j) + lg * at(s.cg, j), at(s.sg, j)));
-    put(s.sb, j, select(on, at(s.sb, j) + lb * at(s.cb, j), at(s.sb, j)));
+    put(s.sr, j, select(on, at(s.sr, j) + lr * at(s.cr, j) * w, at(s.sr, j)));
+    put(s.sg, j, select(on, at(s.sg, j) + lg * at(s.cg, j) * w, at(s.sg, j)));
+    put(s.sb, j, select(on, at(s.sb, j) + lb * at(s.cb, j) * w, at(s.sb, j)));
   }
   _mm256_zeroupper();
 }
@@ -277,17 +279,31 @@ LRAY_AVX2 inline __m256d independentLanes(__m256i key, __m256i dim) {
   return value * all(0x1p-53);
 }
 
-LRAY_AVX2 void placeAvx2(LightLanes &s, LaneSpan span, int row, int col) {
-  const __m256d a0 = all(col), b0 = all(row);
+/// The jitter of the active lanes in `span`, added to the cell each lane
+/// holds in ax, az (its column and row).
+LRAY_AVX2 void placeAvx2(LightLanes &s, LaneSpan span) {
   const __m256i one = _mm256_set1_epi64x(1), two = _mm256_set1_epi64x(2);
   for (size_t j = span.begin; j < span.end; j += 4) {
     const __m256i key = _mm256_load_si256(reinterpret_cast<const __m256i *>(s.key + j));
     const __m256i drawn = _mm256_load_si256(reinterpret_cast<const __m256i *>(s.drawn + j));
-    put(s.ax, j, a0 + independentLanes(key, _mm256_add_epi64(drawn, one)));
-    put(s.az, j, b0 + independentLanes(key, _mm256_add_epi64(drawn, two)));
-    _mm256_store_si256(reinterpret_cast<__m256i *>(s.drawn + j), _mm256_add_epi64(drawn, two));
+    put(s.ax, j, at(s.ax, j) + independentLanes(key, _mm256_add_epi64(drawn, one)));
+    put(s.az, j, at(s.az, j) + independentLanes(key, _mm256_add_epi64(drawn, two)));
+    const __m256i active = _mm256_castpd_si256(flagged(s.active, j));
+    _mm256_store_si256(reinterpret_cast<__m256i *>(s.drawn + j),
+                       _mm256_add_epi64(drawn, _mm256_and_si256(active, two)));
   }
   _mm256_zeroupper();
+}
+
+/// placeAvx2 one lane at a time.
+void placeScalar(LightLanes &s, LaneSpan span) {
+  for (size_t j = span.begin; j < span.end; ++j) {
+    if (!s.active[j]) continue;
+    const uint64_t drawn = s.drawn[j];
+    s.ax[j] += Sampler::independent(s.key[j], drawn + 1);
+    s.az[j] += Sampler::independent(s.key[j], drawn + 2);
+    s.drawn[j] = drawn + 2;
+  }
 }
 
 } // namespace
@@ -312,18 +328,36 @@ void storeSamplers(const LightLanes &lanes, Sampler *samplers) {
 namespace detail {
 void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col,
                 bool avx2) {
-  if (!light.area()) { // the cell's centre (Light::Sampler::place)
-    std::fill(lanes.ax + span.begin, lanes.ax + span.end, col + 0.5);
-    std::fill(lanes.az + span.begin, lanes.az + span.end, row + 0.5);
-    return;
-  }
-  if (avx2) return placeAvx2(lanes, span, row, col);
+  std::fill(lanes.active + span.begin, lanes.active + span.end, uint8_t{1});
+  // Light::Sampler::place: the cell's centre, or its corner plus a jitter.
+  const double centre = light.area() ? 0 : 0.5;
+  std::fill(lanes.ax + span.begin, lanes.ax + span.end, col + centre);
+  std::fill(lanes.az + span.begin, lanes.az + span.end, row + centre);
+  if (!light.area()) return;
+  if (avx2) return placeAvx2(lanes, span);
+  placeScalar(lanes, span);
+}
+
+void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,
+                 int shares, Sampler *samplers, bool inLanes, bool avx2) {
+  const int cells = light.sampleCount();
   for (size_t j = span.begin; j < span.end; ++j) {
-    const uint64_t drawn = lanes.drawn[j];
-    lanes.ax[j] = col + Sampler::independent(lanes.key[j], drawn + 1);
-    lanes.az[j] = row + Sampler::independent(lanes.key[j], drawn + 2);
-    lanes.drawn[j] = drawn + 2;
+    Sampler &sampler = samplers[lanes.point[j]];
+    const int k = round * shares + static_cast<int>(sampler.lightStratum % shares);
+    lanes.active[j] = k < cells;
+    if (!lanes.active[j]) continue;
+    const int row = k / light.cols(), col = k % light.cols();
+    if (!inLanes) {
+      light.place(row, col, sampler, lanes.ax[j], lanes.az[j]);
+      continue;
+    }
+    const double centre = light.area() ? 0 : 0.5;
+    lanes.ax[j] = col + centre;
+    lanes.az[j] = row + centre;
   }
+  if (!inLanes || !light.area()) return;
+  if (avx2) return placeAvx2(lanes, span);
+  placeScalar(lanes, span);
 }
 
 LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid, bool avx2) {
@@ -333,12 +367,12 @@ LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &gr
   return round;
 }
 
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add,
-            bool avx2) {
-  if (avx2) return addLitAvx2(lanes, span, lightColor, add);
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+            const uint8_t *add, bool avx2) {
+  if (avx2) return addLitAvx2(lanes, span, lightColor, weight, add);
   for (size_t j = span.begin; j < span.end; ++j) {
     if (!add[j]) continue;
-    const Color lit = lightColor * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]);
+    const Color lit = lightColor * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]) * weight;
     lanes.sr[j] += lit.r, lanes.sg[j] += lit.g, lanes.sb[j] += lit.b;
   }
 }
@@ -348,8 +382,14 @@ LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &gr
   return detail::lightLanesRound(lanes, span, grid, cpuHasAvx2());
 }
 
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add) {
-  detail::addLit(lanes, span, lightColor, add, cpuHasAvx2());
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+            const uint8_t *add) {
+  detail::addLit(lanes, span, lightColor, weight, add, cpuHasAvx2());
+}
+
+void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,
+                 int shares, Sampler *samplers, bool inLanes) {
+  detail::placeSpread(lanes, span, light, round, shares, samplers, inLanes, cpuHasAvx2());
 }
 
 void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col) {

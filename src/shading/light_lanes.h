@@ -48,8 +48,10 @@ struct LightLanes {
   alignas(32) int32_t exponent[kMax]; ///< Material::integerExponent (-1: std::pow)
 
   // Per round, in: the sample's place on the grid, in cells (col + jitter,
-  // row + jitter).
+  // row + jitter), and whether the point takes a sample this round (with
+  // spread light sampling, a point's share may have no cell left).
   alignas(32) double ax[kMax], az[kMax];
+  alignas(32) uint8_t active[kMax];
   // The points' samplers while the lanes draw their jitter (loadSamplers
   // to storeSamplers): key and numbers drawn.
   alignas(32) uint64_t key[kMax], drawn[kMax];
@@ -94,6 +96,13 @@ void storeSamplers(const LightLanes &lanes, Sampler *samplers);
 /// ax and az of the lanes in `span` for cell (row, col) of `light`: what
 /// light.place gives with each point's sampler (after loadSamplers).
 void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col);
+/// The same for round `round` of spread light sampling in `shares` shares
+/// (lua/README.md, "--light-sampling"): each lane's cell is round * shares
+/// + its sampler's lightStratum % shares, and a lane past the last cell is
+/// not active and draws nothing. Without loadSamplers (`inLanes` false),
+/// the samplers draw one by one.
+void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,
+                 int shares, Sampler *samplers, bool inLanes);
 
 /// What a round found over the valid lanes.
 struct LightRound {
@@ -109,17 +118,21 @@ struct LightRound {
 LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid);
 
 /// The round's light at the lanes j in `span` where add[j] (the valid
-/// ones whose shadow ray is clear): sums += lightColor * c.
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add);
+/// ones whose shadow ray is clear): sums += lightColor * c * weight (the
+/// weight of a spread share; 1 is exact).
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+            const uint8_t *add);
 
 namespace detail {
 /// lightLanesRound and addLit with the path chosen: AVX2 lanes (`avx2`,
 /// only where the CPU has it) or one lane at a time. Tests compare the two.
 LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid, bool avx2);
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, const uint8_t *add,
-            bool avx2);
+void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+            const uint8_t *add, bool avx2);
 void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col,
                 bool avx2);
+void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,
+                 int shares, Sampler *samplers, bool inLanes, bool avx2);
 } // namespace detail
 
 } // namespace lray

@@ -112,8 +112,10 @@ void checkPath(bool avx2) {
     std::vector<Sampler> reference = samplers;
     for (int row = 0; row < light.rows; ++row) {
       for (int col = 0; col < light.cols; ++col) {
-        for (size_t j = 0; j < count; ++j)
+        for (size_t j = 0; j < count; ++j) {
           sampler.place(row, col, samplers[j], lanes.ax[j], lanes.az[j]);
+          lanes.active[j] = j % 13 != 12; // a point now and then takes no sample
+        }
         const LightRound round =
             detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
         size_t valid = 0;
@@ -125,7 +127,7 @@ void checkPath(bool avx2) {
           const double dist = length(toLight);
           const Vec3 l = toLight / dist;
           const double nl = dot(c.n, l);
-          const bool expected = dist > 0 && !(nl <= 0);
+          const bool expected = lanes.active[j] && dist > 0 && !(nl <= 0);
           ASSERT_EQ(lanes.valid[j], expected) << "lane " << j << " of " << count;
           if (!expected) continue;
           ++valid;
@@ -181,7 +183,7 @@ void checkNotFinite(bool avx2) {
     lanes.add(static_cast<uint32_t>(i), cs[i].hit, spawnOrigins(cs[i].hit), cs[i].n, cs[i].v,
               cs[i].pigment, *cs[i].m);
   const Light::Sampler sampler(areaLight());
-  for (size_t j = 0; j < cs.size(); ++j) lanes.ax[j] = 0.5, lanes.az[j] = 0.5;
+  for (size_t j = 0; j < cs.size(); ++j) lanes.ax[j] = lanes.az[j] = 0.5, lanes.active[j] = 1;
   const LightRound round = detail::lightLanesRound(lanes, {0, lanes.count}, sampler.grid(), avx2);
   ASSERT_TRUE(lanes.valid[4]);
   EXPECT_FALSE(round.finite);
@@ -194,9 +196,9 @@ TEST(LightLanes, Avx2PathFlagsInfiniteRays) {
   checkNotFinite(true);
 }
 
-/// addLit adds lightColor * c to the lanes flagged, as Color's operators
-/// do, and leaves the others alone.
-void checkAddLit(bool avx2) {
+/// addLit adds lightColor * c * weight to the lanes flagged, as Color's
+/// operators do, and leaves the others alone.
+void checkAddLit(bool avx2, double weight) {
   static LightLanes lanes;
   lanes.clear();
   lanes.count = 13;
@@ -211,9 +213,9 @@ void checkAddLit(bool avx2) {
   Color expected[LightLanes::kMax];
   for (size_t j = 0; j < lanes.count; ++j) {
     expected[j] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
-    if (add[j]) expected[j] += light * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]);
+    if (add[j]) expected[j] += light * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]) * weight;
   }
-  detail::addLit(lanes, {0, lanes.count}, light, add, avx2);
+  detail::addLit(lanes, {0, lanes.count}, light, weight, add, avx2);
   for (size_t j = 0; j < lanes.count; ++j) {
     EXPECT_SAME_BITS(lanes.sr[j], expected[j].r);
     EXPECT_SAME_BITS(lanes.sg[j], expected[j].g);
@@ -261,6 +263,56 @@ void checkPlace(bool avx2) {
   }
 }
 
+/// placeSpread: each point's cell of round r is r * shares + its stratum
+/// modulo shares, drawn as Light::Sampler::place draws it; past the last
+/// cell a point is not active and draws nothing. With the samplers
+/// drawing themselves (inLanes false) too.
+void checkSpread(bool avx2, bool inLanes) {
+  const std::deque<Material> ms = materials();
+  const std::vector<Case> cs = cases(45, 9, ms);
+  const Light light = areaLight(); // 12 cells
+  const Light::Sampler sampler(light);
+  const int shares = 5, rounds = 3;
+  static LightLanes lanes;
+  lanes.clear();
+  std::vector<Sampler> samplers;
+  for (size_t i = 0; i < cs.size(); ++i) {
+    lanes.add(static_cast<uint32_t>(i), cs[i].hit, spawnOrigins(cs[i].hit), cs[i].n, cs[i].v,
+              cs[i].pigment, *cs[i].m);
+    samplers.emplace_back(4, i, 0);
+    samplers.back().lightStratum = static_cast<uint32_t>(i * 7 + 3);
+  }
+  std::vector<Sampler> reference = samplers;
+  if (inLanes) {
+    ASSERT_TRUE(loadSamplers(lanes, samplers.data()));
+  }
+  for (int round = 0; round < rounds; ++round) {
+    detail::placeSpread(lanes, {0, lanes.count}, sampler, round, shares, samplers.data(),
+                        inLanes, avx2);
+    for (size_t j = 0; j < lanes.count; ++j) {
+      const int k = round * shares + static_cast<int>(reference[j].lightStratum % shares);
+      ASSERT_EQ(lanes.active[j], k < 12) << "lane " << j << ", round " << round;
+      if (k >= 12) continue;
+      double a, b;
+      sampler.place(k / light.cols, k % light.cols, reference[j], a, b);
+      EXPECT_SAME_BITS(lanes.ax[j], a);
+      EXPECT_SAME_BITS(lanes.az[j], b);
+    }
+  }
+  if (inLanes) storeSamplers(lanes, samplers.data());
+  for (size_t j = 0; j < lanes.count; ++j) EXPECT_EQ(samplers[j].next(), reference[j].next());
+}
+
+TEST(LightLanes, ScalarSpread) {
+  checkSpread(false, true);
+  checkSpread(false, false);
+}
+
+TEST(LightLanes, Avx2Spread) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU has no AVX2";
+  checkSpread(true, true);
+}
+
 TEST(LightLanes, ScalarPlace) { checkPlace(false); }
 
 TEST(LightLanes, Avx2Place) {
@@ -268,11 +320,15 @@ TEST(LightLanes, Avx2Place) {
   checkPlace(true);
 }
 
-TEST(LightLanes, ScalarAddLit) { checkAddLit(false); }
+TEST(LightLanes, ScalarAddLit) {
+  checkAddLit(false, 1);
+  checkAddLit(false, 3);
+}
 
 TEST(LightLanes, Avx2AddLit) {
   if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU has no AVX2";
-  checkAddLit(true);
+  checkAddLit(true, 1);
+  checkAddLit(true, 3);
 }
 
 } // namespace

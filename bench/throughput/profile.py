@@ -12,7 +12,7 @@ and sorts the samples into kinds by the function (or library) they fell in:
                   callbacks
     shading       the integrator's shading, finishes, lobes, surfaces
     pigments      pigments and noise
-    lights        light sampling and shadow rays' set-up
+    lights        light sampling and shadow rays' set-up, the area light's lanes
     sampling      the tile loop, camera rays, samplers, film
     libm          the C maths library (called from all of the above)
     other         the rest (threads, kernel, allocation, output)
@@ -55,7 +55,8 @@ RULES = [
                     r"Transform::apply"),
     ("pigments", r"Pigment|pigment|noise|Noise|perlin|Perlin|Marble|Wood|Checker|turbulence|"
                  r"TextureImage|Image(Cache|Map)"),
-    ("lights", r"Light|light|shadow|Shadow|Emitter|emitter"),
+    ("lights", r"Light|light|shadow|Shadow|Emitter|emitter|"
+               r"roundAvx2|roundScalar|placeAvx2|placeScalar|boundAxis|boundLanes|addLit"),
     ("shading", r"Integrator|shade|Shade|Finish|finish|Lobe|lobe|surface|Surface|fresnel|"
                 r"Fresnel|refract|reflect|Ggx|ggx|Path|offsetRayOrigin"),
     ("sampling", r"sampleTile|renderTiles|Sampler|sampler|owenSobol|Sobol|sobol|mix64|Film|"

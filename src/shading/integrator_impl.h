@@ -209,6 +209,7 @@ template <class Accel>
 void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes &lanes,
                                         Sampler *samplers, const LightScratch &scratch,
                                         Color *sums, RayCounts &counts) const {
+  if (lanes.count == 0) return; // no lit point
   const LightGrid grid = light.grid();
   const Color &lightColor = light.uniformColor();
   Ray *__restrict shadowRays = scratch.shadowRays;

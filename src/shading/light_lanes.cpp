@@ -266,7 +266,8 @@ LRAY_AVX2 inline __m256i mul64(__m256i a, __m256i b) {
 /// bits converted exactly (as two halves, each by the 2^52 exponent trick)
 /// and scaled by 2^-53.
 LRAY_AVX2 inline __m256d independentLanes(__m256i key, __m256i dim) {
-  __m256i z = _mm256_add_epi64(key, mul64(_mm256_set1_epi64x(0x9e3779b97f4a7c15LL), dim));
+  const __m256i golden = _mm256_set1_epi64x(static_cast<int64_t>(0x9e3779b97f4a7c15ULL));
+  __m256i z = _mm256_add_epi64(key, mul64(golden, dim));
   z = mul64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 30)),
             _mm256_set1_epi64x(static_cast<int64_t>(0xbf58476d1ce4e5b9ULL)));
   z = mul64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 27)),

@@ -161,9 +161,9 @@ private:
                       Sampler *samplers, size_t count, bool coherent, const LightScratch &scratch,
                       Color *sums, RayCounts &counts) const;
 
-  /// addDirectLight's loop for a still Light whose every cell each point
-  /// samples (no spread shares), on lanes.count points in lanes: the same
-  /// draws, rays, counts and sums, cell by cell.
+  /// addDirectLight's loop for a still Light of several cells (all of them
+  /// or, with spread light sampling, each point's share), on lanes.count
+  /// points in lanes: the same draws, rays, counts and sums, round by round.
   void addLightInLanes(const Light::Sampler &light, LightLanes &lanes, Sampler *samplers,
                        const LightScratch &scratch, Color *sums, RayCounts &counts) const;
 

@@ -88,7 +88,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
   // of its surface they leave), for all the lights' samples.
   for (size_t i = 0; i < count; ++i)
     if ((!found || found[i]) && surfaces[i].m->lit) scratch.origins[i] = spawnOrigins(hits[i]);
-  bool inLanes = false; // scratch.lanes holds the lit points
+  bool pointsInLanes = false; // scratch.lanes holds the lit points
   for (const LightSampler &light : lights_) {
     std::visit(
         [&](const auto &source) {
@@ -96,8 +96,8 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           if constexpr (std::is_same_v<Source, Light::Sampler>) {
             // One cell (a point light): copying the points into lanes
             // costs more than the one round saves.
-            if (scratch.lanes && !source.moves() && source.sampleCount() > 1) {
-              if (!inLanes) {
+            if (scratch.lanes && coherent && !source.moves() && source.sampleCount() > 1) {
+              if (!pointsInLanes) {
                 scratch.lanes->clear();
                 for (size_t i = 0; i < count; ++i) {
                   const Surface &s = surfaces[i];
@@ -105,7 +105,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
                     scratch.lanes->add(static_cast<uint32_t>(i), hits[i], scratch.origins[i], s.n,
                                        s.v, s.pigment, *s.m);
                 }
-                inLanes = true;
+                pointsInLanes = true;
               }
               addLightInLanes(source, *scratch.lanes, samplers, scratch, sums, counts);
               return;
@@ -262,7 +262,8 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
     }
     // Which lanes' rays are clear (blocked[] is by ray).
     uint8_t *clear = lanes.clearRay;
-    std::fill(clear + span.begin, clear + span.end, uint8_t{0});
+    // To the end of the last group of four: addLit reads flags four at a time.
+    std::fill(clear + span.begin, clear + ((span.end + 3) & ~size_t{3}), uint8_t{0});
     for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
     addLit(lanes, span, lightColor, shareWeight, clear);
   }

@@ -108,7 +108,8 @@ void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, 
 struct LightRound {
   size_t valid = 0;
   /// Whether every valid ray's origin and end (o + d) is finite: then
-  /// `from` and `to` are the boxes around them (shaftEnds's, exactly).
+  /// `from` and `to` are the boxes around them (shaftEnds's values; a zero
+  /// bound may differ in sign, which the shaft test cannot tell apart).
   bool finite = true;
   Bounds3 from, to;
 };

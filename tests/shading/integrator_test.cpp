@@ -249,8 +249,8 @@ TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
 }
 
 // shadeTile batches the camera hits' shadow rays light sample by light
-// sample (occludedCoherent); every colour, count and sampler draw must be
-// what shadeHit gives ray by ray: a lit floor partly shadowed by spheres
+// sample (occludedCoherent), an area light in lanes; every colour, count
+// and sampler draw must be what shadeHit gives ray by ray: a lit floor partly shadowed by spheres
 // under a point light and a jittered area light, a mirror and a glass
 // sphere (secondary rays with their own shadow rays), and rays that miss.
 TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
@@ -275,49 +275,58 @@ TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
   b.light(Transform::translate({-2, 4, -2}) * Transform::scale(1.5, 1, 1.5), {0.5, 0.5, 0.6}, 2,
           3, true);
   b.spot({0, 6, 0}, {0.5, 0, 0.5}, 15, 25, {0.4, 0.3, 0.2}); // lights part of the floor
-  BruteForceAccelerator accel(b.scene, GetParam());
-  ImageCache images(false);
-  Integ integrator(b.scene, accel, images);
+  // Each light's cells in full, and spread over shares (a tile's area
+  // light goes through the lanes of light_lanes.h, a lone ray's through
+  // the loop one point at a time).
+  for (uint32_t shares : {1u, 3u}) {
+    SCOPED_TRACE("light shares " + std::to_string(shares));
+    IntegratorOptions options;
+    options.lightShares = shares;
+    BruteForceAccelerator accel(b.scene, GetParam());
+    ImageCache images(false);
+    Integ integrator(b.scene, accel, images, options);
 
-  constexpr size_t kSide = 16, kCount = kSide * kSide;
-  std::vector<Ray> rays;
-  for (size_t i = 0; i < kCount; ++i) {
-    const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
-    const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
-    rays.push_back(rayFrom({0, 1.5, -7}, {x * 0.4, y * 0.3 - 0.15, 1}));
+    constexpr size_t kSide = 16, kCount = kSide * kSide;
+    std::vector<Ray> rays;
+    for (size_t i = 0; i < kCount; ++i) {
+      const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
+      const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
+      rays.push_back(rayFrom({0, 1.5, -7}, {x * 0.4, y * 0.3 - 0.15, 1}));
+    }
+    std::vector<Hit> hits(kCount);
+    std::vector<uint8_t> found(kCount);
+    accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
+    std::vector<Sampler> tileSamplers, raySamplers;
+    for (size_t i = 0; i < kCount; ++i) {
+      tileSamplers.emplace_back(7, i, 0);
+      tileSamplers.back().lightStratum = static_cast<uint32_t>(i % 7);
+      raySamplers.push_back(tileSamplers.back());
+    }
+    std::vector<Color> tile(kCount);
+    RayCounts tileCounts, rayCounts;
+    integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
+                         tile.data(), tileCounts);
+    size_t misses = 0, dark = 0;
+    for (size_t i = 0; i < kCount; ++i) {
+      const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
+                                                            rayCounts)
+                                      : integrator.background();
+      EXPECT_EQ(tile[i], expected) << "ray " << i;
+      // Both consumed the same draws: their next ones agree.
+      EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
+      misses += !found[i];
+      dark += found[i] && tile[i].r < 0.2;
+    }
+    EXPECT_EQ(tileCounts.shadow, rayCounts.shadow);
+    EXPECT_EQ(tileCounts.reflection, rayCounts.reflection);
+    EXPECT_EQ(tileCounts.refraction, rayCounts.refraction);
+    // The scene exercises what it should: misses, shadows, both secondary kinds.
+    EXPECT_GT(misses, 10u);
+    EXPECT_GT(dark, 5u);
+    EXPECT_GT(rayCounts.shadow, (shares == 1 ? 2 : 1) * kCount);
+    EXPECT_GT(rayCounts.reflection, 10u);
+    EXPECT_GT(rayCounts.refraction, 10u);
   }
-  std::vector<Hit> hits(kCount);
-  std::vector<uint8_t> found(kCount);
-  accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
-  std::vector<Sampler> tileSamplers, raySamplers;
-  for (size_t i = 0; i < kCount; ++i) {
-    tileSamplers.emplace_back(7, i, 0);
-    raySamplers.emplace_back(7, i, 0);
-  }
-  std::vector<Color> tile(kCount);
-  RayCounts tileCounts, rayCounts;
-  integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
-                       tile.data(), tileCounts);
-  size_t misses = 0, dark = 0;
-  for (size_t i = 0; i < kCount; ++i) {
-    const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
-                                                          rayCounts)
-                                    : integrator.background();
-    EXPECT_EQ(tile[i], expected) << "ray " << i;
-    // Both consumed the same draws: their next ones agree.
-    EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
-    misses += !found[i];
-    dark += found[i] && tile[i].r < 0.2;
-  }
-  EXPECT_EQ(tileCounts.shadow, rayCounts.shadow);
-  EXPECT_EQ(tileCounts.reflection, rayCounts.reflection);
-  EXPECT_EQ(tileCounts.refraction, rayCounts.refraction);
-  // The scene exercises what it should: misses, shadows, both secondary kinds.
-  EXPECT_GT(misses, 10u);
-  EXPECT_GT(dark, 5u);
-  EXPECT_GT(rayCounts.shadow, 2 * kCount);
-  EXPECT_GT(rayCounts.reflection, 10u);
-  EXPECT_GT(rayCounts.refraction, 10u);
 }
 
 TEST_P(IntegratorTest, RefractingSlabAbsorbsAlongItsThickness) {

@@ -161,6 +161,12 @@ private:
                       Sampler *samplers, size_t count, bool coherent, const LightScratch &scratch,
                       Color *sums, RayCounts &counts) const;
 
+  /// blocked[k] for shadow rays[0, n) that a shaft did not settle as clear:
+  /// against its few direct candidates alone, or the accelerator's
+  /// (occludedCoherent when `coherent`).
+  void testShadowRays(const ShadowShafts::Candidates &candidates, const Ray *rays, size_t n,
+                      bool coherent, uint8_t *blocked) const;
+
   /// addDirectLight's loop for a still Light of several cells (all of them
   /// or, with spread light sampling, each point's share), on lanes.count
   /// points in lanes: the same draws, rays, counts and sums, round by round.

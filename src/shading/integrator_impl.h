@@ -180,13 +180,8 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               std::fill_n(blocked, n, uint8_t{0});
               shadow -= n;
               counts.shadowSkipped += n;
-            } else if (candidates.direct) {
-              for (size_t j = 0; j < n; ++j)
-                blocked[j] = shafts_.occluded(candidates, shadowRays[j]);
-            } else if (coherent) {
-              accel_.occludedCoherent(shadowRays, n, blocked);
             } else {
-              for (size_t j = 0; j < n; ++j) blocked[j] = accel_.occluded(shadowRays[j]);
+              testShadowRays(candidates, shadowRays, n, coherent, blocked);
             }
             for (size_t j = 0; j < n; ++j) {
               if (blocked[j]) continue;
@@ -202,6 +197,19 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           counts.shadow += shadow;
         },
         light);
+  }
+}
+
+template <class Accel>
+void Integrator<Accel>::testShadowRays(const ShadowShafts::Candidates &candidates,
+                                       const Ray *rays, size_t n, bool coherent,
+                                       uint8_t *blocked) const {
+  if (candidates.direct) {
+    for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, rays[k]);
+  } else if (coherent) {
+    accel_.occludedCoherent(rays, n, blocked);
+  } else {
+    for (size_t k = 0; k < n; ++k) blocked[k] = accel_.occluded(rays[k]);
   }
 }
 
@@ -255,11 +263,7 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
     }
     if (n == 0) n = lanes.writeRays(span, shadowRays);
     counts.shadow += n;
-    if (candidates.direct) {
-      for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, shadowRays[k]);
-    } else {
-      accel_.occludedCoherent(shadowRays, n, blocked);
-    }
+    testShadowRays(candidates, shadowRays, n, true, blocked);
     // Which lanes' rays are clear (blocked[] is by ray).
     uint8_t *clear = lanes.clearRay;
     // To the end of the last group of four: addLit reads flags four at a time.

@@ -143,7 +143,13 @@ private:
     /// A tile's lit points in lanes, for the Lights that can take them
     /// (addLightInLanes); null: every light one point at a time.
     LightLanes *lanes = nullptr;
+    /// Entries of pending, shadowRays, blocked and targets (at least the
+    /// points lit together).
+    size_t capacity = 1;
   };
+  /// directLight's rounds of an area light taken together (a batch).
+  static constexpr size_t kPointRounds = 64;
+  struct PointScratch;
   struct TileScratch;
 
   Color traceRay(const Ray &ray, int depth, double weight, Sampler &sampler,
@@ -156,7 +162,8 @@ private:
   /// and sample by sample, so every point draws from its sampler in the
   /// same order whether shaded alone or in a tile. Each sample's shadow
   /// rays go to the accelerator together: occludedCoherent when
-  /// `coherent`, else occluded one by one.
+  /// `coherent`, else occluded one by one; one point alone (count 1) takes
+  /// up to scratch.capacity samples together, coherent.
   void addDirectLight(const Hit *hits, const Surface *surfaces, const uint8_t *found,
                       Sampler *samplers, size_t count, bool coherent, const LightScratch &scratch,
                       Color *sums, RayCounts &counts) const;
@@ -166,6 +173,16 @@ private:
   /// (occludedCoherent when `coherent`).
   void testShadowRays(const ShadowShafts::Candidates &candidates, const Ray *rays, size_t n,
                       bool coherent, uint8_t *blocked) const;
+
+  /// Lanes a shaft settles at once: a few rows of a tile's points.
+  static constexpr size_t kShaftLanes = 32;
+  /// lanes.clearRay[j] for the valid lanes j of `span` after a round whose
+  /// shaft over the whole span was not clear (`whole`: its candidates):
+  /// each kShaftLanes lanes get their own shaft, clear (no ray traced) or
+  /// with a few analytic candidates (tested alone), and the rest go to the
+  /// accelerator together.
+  void markClearLanes(LightLanes &lanes, LaneSpan span, const ShadowShafts::Candidates &whole,
+                      const LightScratch &scratch, RayCounts &counts) const;
 
   /// addDirectLight's loop for a still Light of several cells (all of them
   /// or, with spread light sampling, each point's share), on lanes.count

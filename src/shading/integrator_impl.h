@@ -126,29 +126,38 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
           const int shares = static_cast<int>(std::min<uint32_t>(lightShares_, cells));
           const int rounds = (cells + shares - 1) / shares;
           const double shareWeight = shares;
-          for (int round = 0; round < rounds; ++round) {
+          // One point alone (a secondary ray's hit) takes several rounds at
+          // once: its rays to the cells of an area light share an origin,
+          // as coherent as a tile's to one cell, so they take a shaft and
+          // a packet together. A point's draws and sums keep round order.
+          const int batchRounds =
+              count == 1 ? static_cast<int>(std::min<size_t>(rounds, scratch.capacity)) : 1;
+          const bool coherentBatch = coherent || batchRounds > 1;
+          for (int firstRound = 0; firstRound < rounds; firstRound += batchRounds) {
             // In two passes, each a short loop whose iterations overlap: the
             // light's samples (each point's sampler draws in the same order
             // as ever), then the directions and the shadow rays of those
             // that face their surface. As one loop, each sample's draw,
             // square root and division waited on the one before.
             size_t m = 0;
-            for (size_t i = 0; i < count; ++i) {
-              if ((found && !found[i]) || !surfaces[i].m->lit) continue;
-              int k = round;
-              if (shares > 1) {
-                k = round * shares + static_cast<int>(samplers[i].lightStratum % shares);
-                if (k >= cells) continue;
+            const int endRound = std::min(rounds, firstRound + batchRounds);
+            for (int round = firstRound; round < endRound; ++round)
+              for (size_t i = 0; i < count; ++i) {
+                if ((found && !found[i]) || !surfaces[i].m->lit) continue;
+                int k = round;
+                if (shares > 1) {
+                  k = round * shares + static_cast<int>(samplers[i].lightStratum % shares);
+                  if (k >= cells) continue;
+                }
+                const LightSample sample = source.sample(k, hits[i].p, samplers[i]);
+                if constexpr (!kUniform) {
+                  if (sample.color.isBlack()) continue; // outside a spot's cone
+                  pending[m].dir.color = sample.color;
+                }
+                targets[m] = sample.target;
+                pending[m].ray = static_cast<uint32_t>(i);
+                ++m;
               }
-              const LightSample sample = source.sample(k, hits[i].p, samplers[i]);
-              if constexpr (!kUniform) {
-                if (sample.color.isBlack()) continue; // outside a spot's cone
-                pending[m].dir.color = sample.color;
-              }
-              targets[m] = sample.target;
-              pending[m].ray = static_cast<uint32_t>(i);
-              ++m;
-            }
             size_t n = 0; // compacted in place: n <= j
             for (size_t j = 0; j < m; ++j) {
               const uint32_t i = pending[j].ray;
@@ -171,7 +180,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
             // Nothing between these rays' origins and ends: every one is clear.
             // Few analytic objects that may block: test those alone.
             ShadowShafts::Candidates candidates;
-            if (coherent && shafts_.enabled()) {
+            if (coherentBatch && shafts_.enabled()) {
               Bounds3 from, to;
               shaftEnds(shadowRays, n, from, to);
               candidates = shafts_.candidates(from, to);
@@ -181,7 +190,7 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               shadow -= n;
               counts.shadowSkipped += n;
             } else {
-              testShadowRays(candidates, shadowRays, n, coherent, blocked);
+              testShadowRays(candidates, shadowRays, n, coherentBatch, blocked);
             }
             for (size_t j = 0; j < n; ++j) {
               if (blocked[j]) continue;
@@ -220,8 +229,6 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
   if (lanes.count == 0) return; // no lit point
   const LightGrid grid = light.grid();
   const Color &lightColor = light.uniformColor();
-  Ray *__restrict shadowRays = scratch.shadowRays;
-  uint8_t *__restrict blocked = scratch.blocked;
   for (size_t j = 0; j < lanes.count; ++j) {
     const Color &sum = sums[lanes.point[j]];
     lanes.sr[j] = sum.r, lanes.sg[j] = sum.g, lanes.sb[j] = sum.b;
@@ -242,38 +249,62 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
       placeSpread(lanes, span, light, round, shares, samplers, drawInLanes);
     const LightRound lit = lightLanesRound(lanes, span, grid);
     if (lit.valid == 0) continue;
-    size_t n = 0; // shadow rays written
-    // As addDirectLight: nothing in the shaft, every ray is clear; a few
-    // analytic objects in it, test those alone.
+    // As addDirectLight: nothing in the shaft, every ray is clear.
     ShadowShafts::Candidates candidates;
-    if (shafts_.enabled()) {
-      if (lit.finite) {
-        candidates = shafts_.candidates(lit.from, lit.to);
-      } else {
-        n = lanes.writeRays(span, shadowRays);
-        Bounds3 from, to;
-        shaftEnds(shadowRays, n, from, to);
-        candidates = shafts_.candidates(from, to);
-      }
-    }
+    if (shafts_.enabled() && lit.finite) candidates = shafts_.candidates(lit.from, lit.to);
     if (candidates.clear) {
       addLit(lanes, span, lightColor, shareWeight, lanes.valid);
       counts.shadowSkipped += lit.valid;
       continue;
     }
-    if (n == 0) n = lanes.writeRays(span, shadowRays);
-    counts.shadow += n;
-    testShadowRays(candidates, shadowRays, n, true, blocked);
-    // Which lanes' rays are clear (blocked[] is by ray).
-    uint8_t *clear = lanes.clearRay;
-    // To the end of the last group of four: addLit reads flags four at a time.
-    std::fill(clear + span.begin, clear + ((span.end + 3) & ~size_t{3}), uint8_t{0});
-    for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
-    addLit(lanes, span, lightColor, shareWeight, clear);
+    markClearLanes(lanes, span, candidates, scratch, counts);
+    addLit(lanes, span, lightColor, shareWeight, lanes.clearRay);
   }
   for (size_t j = 0; j < lanes.count; ++j)
     sums[lanes.point[j]] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
   if (drawInLanes) storeSamplers(lanes, samplers);
+}
+
+template <class Accel>
+void Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
+                                       const ShadowShafts::Candidates &whole,
+                                       const LightScratch &scratch, RayCounts &counts) const {
+  Ray *__restrict rays = scratch.shadowRays;
+  uint8_t *__restrict blocked = scratch.blocked;
+  uint8_t *clear = lanes.clearRay;
+  // To the end of the last group of four: addLit reads flags four at a time.
+  std::fill(clear + span.begin, clear + ((span.end + 3) & ~size_t{3}), uint8_t{0});
+  // One analytic shape (a sphere's own points) is cheaper to test than to
+  // cut the span for.
+  const bool refine = shafts_.enabled() && !(whole.direct && whole.count == 1);
+  const size_t step = refine ? kShaftLanes : span.end - span.begin;
+  size_t n = 0; // rays for the accelerator, rays[0, n)
+  for (size_t begin = span.begin; begin < span.end; begin += step) {
+    const LaneSpan chunk{begin, std::min(span.end, begin + step)};
+    const size_t m = lanes.writeRays(chunk, rays, n);
+    if (m == 0) continue;
+    ShadowShafts::Candidates candidates = whole;
+    if (refine) {
+      Bounds3 from, to;
+      shaftEnds(rays + n, m, from, to);
+      candidates = shafts_.candidates(from, to);
+    }
+    if (candidates.clear) {
+      for (size_t k = n; k < n + m; ++k) clear[lanes.rayLane[k]] = 1;
+      counts.shadowSkipped += m;
+      continue;
+    }
+    counts.shadow += m;
+    if (!candidates.direct) {
+      n += m; // kept
+      continue;
+    }
+    for (size_t k = n; k < n + m; ++k)
+      clear[lanes.rayLane[k]] = !shafts_.occluded(candidates, rays[k]);
+  }
+  if (n == 0) return;
+  accel_.occludedCoherent(rays, n, blocked);
+  for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
 }
 
 template <class Accel>
@@ -291,14 +322,14 @@ template <class Accel>
 Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &sampler,
                                      RayCounts &counts) const {
   if (!s.m->lit) return Color();
-  typename LightScratch::Pending pending;
-  Ray shadowRay;
-  uint8_t blocked;
+  // Room for kPointRounds of an area light's rounds at once (addDirectLight).
+  static thread_local PointScratch scratch;
   Color sum;
   SpawnOrigins origins;
-  Vec3 target;
   addDirectLight(&hit, &s, nullptr, &sampler, 1, false,
-                 {&pending, &shadowRay, &blocked, &origins, &target}, &sum, counts);
+                 {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
+                  &origins, scratch.targets.data(), nullptr, kPointRounds},
+                 &sum, counts);
   return sum;
 }
 
@@ -317,6 +348,13 @@ void Integrator<Accel>::forEachLightSample(const Vec3 &p, Sampler &sampler, Visi
         light);
   }
 }
+
+template <class Accel> struct Integrator<Accel>::PointScratch {
+  std::array<typename LightScratch::Pending, kPointRounds> pending;
+  std::array<Ray, kPointRounds> shadowRays;
+  std::array<uint8_t, kPointRounds> blocked;
+  std::array<Vec3, kPointRounds> targets;
+};
 
 template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<Surface, kMaxTileRays> surface;
@@ -347,7 +385,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   }
   addDirectLight(hits, surface.data(), found, samplers, count, true,
                  {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
-                  scratch.origins.data(), scratch.targets.data(), &scratch.lanes},
+                  scratch.origins.data(), scratch.targets.data(), &scratch.lanes, kMaxTileRays},
                  lightSum.data(), counts);
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {

@@ -34,8 +34,8 @@ void LightLanes::add(uint32_t index, const Hit &hit, const SpawnOrigins &origins
     while (powerBits < 31 && (m.integerExponent >> powerBits) > 0) ++powerBits;
 }
 
-size_t LightLanes::writeRays(LaneSpan span, Ray *rays) {
-  size_t n = 0;
+size_t LightLanes::writeRays(LaneSpan span, Ray *rays, size_t first) {
+  size_t n = first;
   for (size_t j = span.begin; j < span.end; ++j) {
     if (!valid[j]) continue;
     Ray &ray = rays[n]; // field by field: see spawnRayTo
@@ -46,7 +46,7 @@ size_t LightLanes::writeRays(LaneSpan span, Ray *rays) {
     ray.time = time[j];
     rayLane[n++] = static_cast<uint32_t>(j);
   }
-  return n;
+  return n - first;
 }
 
 namespace {

@@ -78,9 +78,9 @@ struct LightLanes {
     count = 0;
     powerBits = 0;
   }
-  /// The shadow rays of the valid lanes in `span`, to rays[0, n) in lane
-  /// order (rayLane[k]: ray k's lane); returns n.
-  size_t writeRays(LaneSpan span, Ray *rays);
+  /// The shadow rays of the valid lanes in `span`, to rays[first, first +
+  /// n) in lane order (rayLane[k]: ray k's lane); returns n.
+  size_t writeRays(LaneSpan span, Ray *rays, size_t first = 0);
   /// Lane `count` becomes this point (hit, its spawn origins and surface
   /// N, V and pigment, material m).
   void add(uint32_t index, const Hit &hit, const SpawnOrigins &origins, const Vec3 &n,

@@ -80,8 +80,10 @@ TEST(EmbreeAccelerator, MatchesBruteForceOnMixedScene) {
   Scene s = mixedScene();
   EmbreeAccelerator accel(s);
   AcceleratorStats st = accel.stats();
-  EXPECT_EQ(st.primitives, 4u + 2u); // 4 analytic + the quad's 2 triangles, counted once
-  EXPECT_EQ(st.instances, 2u);
+  // 4 analytic + the quad's 2 triangles placed twice in the world (a mesh
+  // that few entities share is not instanced).
+  EXPECT_EQ(st.primitives, 4u + 2u * 2u);
+  EXPECT_EQ(st.instances, 0u);
   EXPECT_GT(st.memoryBytes, 0u);
   EXPECT_GE(st.buildSeconds, 0);
 
@@ -178,6 +180,29 @@ TEST(EmbreeAccelerator, DefaultTriangleUvs) {
   EXPECT_NEAR(h.u, 0.25, 1e-6); // corner 1 is (1, 0)
   EXPECT_NEAR(h.v, 0.5, 1e-6);  // corner 2 is (0, 1)
   EXPECT_EQ(h.ng, Vec3(0, 0, 1));
+}
+
+// A mesh with a triangle of no area stays instanced, even when one
+// entity uses it: placed in float, its collinear corners would make a
+// sliver rays could hit. Without such a triangle it is placed; both find
+// the same hits.
+TEST(EmbreeAccelerator, MeshWithAZeroAreaTriangleStaysInstanced) {
+  const Transform place = Transform::translate({0.3, -0.2, 5}) * Transform::rotate({1, 1, 0}, 20);
+  auto proper = makeMesh({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, {2, 0, 0}, {3, 1, 0}, {4, 2, 0}},
+                         {0, 1, 2});
+  auto withCollinear = makeMesh(
+      {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, {2, 0, 0}, {3, 1, 0}, {4, 2, 0}}, {0, 1, 2, 3, 4, 5});
+  for (const auto &[mesh, instanced] : {std::pair{proper, false}, std::pair{withCollinear, true}}) {
+    Scene s;
+    s.entities.push_back(meshEntity(mesh, place));
+    s.textures.push_back({});
+    EmbreeAccelerator accel(s);
+    EXPECT_EQ(accel.stats().instances, instanced ? 1u : 0u);
+    Hit h;
+    ASSERT_TRUE(accel.intersect({{0.3, -0.2, 0}, {0, 0, 1}}, h));
+    EXPECT_EQ(h.primitive, 0u);
+    EXPECT_NEAR(h.t, 5, 1e-6);
+  }
 }
 
 TEST(EmbreeAccelerator, InstancesShareOneMesh) {

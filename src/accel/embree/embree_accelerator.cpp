@@ -113,6 +113,42 @@ void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh
   }
 }
 
+/// Whether a triangle of `mesh` has no area (its corners' cross product,
+/// in double from their floats, is zero).
+bool hasZeroAreaTriangle(const MeshData &mesh) {
+  const auto &index = mesh.triangleIndices;
+  for (size_t t = 0; t + 2 < index.size(); t += 3) {
+    const Vec3 a = toVec3(mesh.positions[index[t]]);
+    if (cross(toVec3(mesh.positions[index[t + 1]]) - a, toVec3(mesh.positions[index[t + 2]]) - a) ==
+        Vec3(0, 0, 0))
+      return true;
+  }
+  return false;
+}
+
+/// Meshes placed as triangles in the world (`placeable`): at most this
+/// many entities of one mesh, and this many triangles of shared meshes in all.
+constexpr size_t kMaxPlacedCopies = 4;
+constexpr size_t kMaxPlacedTriangles = size_t{1} << 20;
+
+/// Whether an entity's transformed mesh (used by `uses` entities) goes into
+/// the root scene as its own triangles placed in the world rather than as
+/// an instance of one object-space BVH: Embree's packets of shadow rays pay
+/// for crossing an instance's level (the 2011 examples' bunnies and teapot
+/// render about a tenth faster placed, bench/HISTORY.md). A mesh that many
+/// entities share stays instanced (one BVH for all its copies), and so does
+/// one with a triangle of no area: placed in float, three collinear corners
+/// would become a sliver that rays could hit. `placedTriangles` counts the
+/// shared meshes' copies placed so far.
+bool placeable(const MeshData &mesh, size_t uses, size_t &placedTriangles) {
+  const size_t triangles = mesh.triangleIndices.size() / 3;
+  if (uses > kMaxPlacedCopies) return false;
+  if (uses > 1 && placedTriangles + triangles > kMaxPlacedTriangles) return false;
+  if (hasZeroAreaTriangle(mesh)) return false;
+  if (uses > 1) placedTriangles += triangles;
+  return true;
+}
+
 } // namespace
 
 /// Embree callbacks. None of them throws (the shape code does not) and none
@@ -384,32 +420,21 @@ void EmbreeAccelerator::build() {
   const auto &entities = scene_.entities;
   frameOrigin_ = floatFrameOrigin(scene_);
   const bool rebase = frameOrigin_ != Vec3(0, 0, 0);
-  // Triangle geometry over the MeshData's own buffers, or over a copy of
-  // them relative to the float frame (`inFrame`: an untransformed mesh of a
-  // scene far from the world origin).
   size_t ownedBytes = 0;
-  std::map<std::pair<const MeshData *, bool>, const Vec3f *> copies;
-  auto triangleGeometry = [&](const MeshData &mesh, bool inFrame) {
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree reads 16 bytes at each vertex: the buffer must extend 4 bytes
-    // past the last Vec3f. Use the vector's spare capacity if it has some,
-    // else copy once (the framed copy is made with the padding too).
-    const Vec3f *positions = mesh.positions.data();
-    if (inFrame || mesh.positions.capacity() == mesh.positions.size()) {
-      const Vec3f *&copy = copies[{&mesh, inFrame}];
-      if (!copy) {
-        auto &buffer = paddedPositions_.emplace_back(mesh.positions.size() + 1);
-        const Vec3 origin = inFrame ? frameOrigin_ : Vec3(); // p - 0 is p exactly
-        for (size_t i = 0; i < mesh.positions.size(); ++i) {
-          const Vec3f &p = mesh.positions[i];
-          buffer[i] = {static_cast<float>(p.x - origin.x), static_cast<float>(p.y - origin.y),
-                       static_cast<float>(p.z - origin.z)};
-        }
-        ownedBytes += buffer.size() * sizeof(Vec3f);
-        copy = buffer.data();
-      }
-      positions = copy;
+  // A padded float copy of `mesh`'s vertices, each placed by `place`
+  // (double in, double out): Embree reads 16 bytes at each vertex, so the
+  // buffer extends 4 bytes past the last Vec3f.
+  auto paddedCopy = [&](const MeshData &mesh, auto place) {
+    auto &buffer = paddedPositions_.emplace_back(mesh.positions.size() + 1);
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Vec3 p = place(toVec3(mesh.positions[i]));
+      buffer[i] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     }
+    ownedBytes += buffer.size() * sizeof(Vec3f);
+    return static_cast<const Vec3f *>(buffer.data());
+  };
+  auto triangleGeometryOver = [&](const MeshData &mesh, const Vec3f *positions) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions, 0,
                                sizeof(Vec3f), mesh.positions.size());
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -419,11 +444,28 @@ void EmbreeAccelerator::build() {
     stats_.primitives += mesh.triangleIndices.size() / 3;
     return g;
   };
+  // Triangle geometry over the MeshData's own buffers, or over a copy of
+  // them relative to the float frame (`inFrame`: an untransformed mesh of a
+  // scene far from the world origin).
+  std::map<std::pair<const MeshData *, bool>, const Vec3f *> copies;
+  auto triangleGeometry = [&](const MeshData &mesh, bool inFrame) {
+    // Use the vector's spare capacity for the padding if it has some, else
+    // copy once (the framed copy is made with the padding too).
+    const Vec3f *positions = mesh.positions.data();
+    if (inFrame || mesh.positions.capacity() == mesh.positions.size()) {
+      const Vec3f *&copy = copies[{&mesh, inFrame}];
+      const Vec3 origin = inFrame ? frameOrigin_ : Vec3(); // p - 0 is p exactly
+      if (!copy) copy = paddedCopy(mesh, [&](const Vec3 &p) { return p - origin; });
+      positions = copy;
+    }
+    return triangleGeometryOver(mesh, positions);
+  };
 
   std::unordered_map<const MeshData *, size_t> uses;
   for (const Entity &e : entities)
     if (e.isMesh() && e.mesh && !e.mesh->triangles.empty()) ++uses[e.mesh.get()];
 
+  size_t placedTriangles = 0; // copies placed so far
   std::unordered_map<const MeshData *, RTCScene> meshScene;
   // The triangle scene of `mesh` in object space, built once.
   auto meshSceneOf = [&](const MeshData &mesh) {
@@ -494,6 +536,15 @@ void EmbreeAccelerator::build() {
       // Far from the origin every untransformed user gets the framed copy
       // (an instance would move rays by the frame's offset in float).
       RTCGeometry g = triangleGeometry(mesh, rebase);
+      rtcAttachGeometryByID(root_, g, id);
+      rtcReleaseGeometry(g);
+      continue;
+    }
+    if (placeable(mesh, uses[&mesh], placedTriangles)) {
+      // Its triangles placed in the world, relative to the float frame.
+      const Transform &place = e.worldFromObject;
+      RTCGeometry g = triangleGeometryOver(
+          mesh, paddedCopy(mesh, [&](const Vec3 &p) { return place.applyPoint(p) - frameOrigin_; }));
       rtcAttachGeometryByID(root_, g, id);
       rtcReleaseGeometry(g);
       continue;

@@ -22,8 +22,10 @@ inline Vec3 errorOffset(const Hit &hit) {
 }
 
 /// p + offset, each coordinate rounded away from p so that the rounding of
-/// the sum cannot undo the offset.
-inline Vec3 pushedOff(const Vec3 &from, const Vec3 &offset) {
+/// the sum cannot undo the offset. Always inline: the light loop calls it
+/// twice a point, and GCC stopped inlining it when that loop grew (1.6 %
+/// more instructions on the 2011 `light` example).
+[[gnu::always_inline]] inline Vec3 pushedOff(const Vec3 &from, const Vec3 &offset) {
   Vec3 p = from + offset;
   for (int i = 0; i < 3; ++i) {
     if (offset[i] > 0) p[i] = nextUp(p[i]);

@@ -39,7 +39,8 @@ struct Material {
     m.refracts = finish.refraction > 0;
     m.emits = !finish.emission.isBlack();
     double e = finish.exponent;
-    if (e >= 0 && e <= kMaxIntegerExponent && e == std::floor(e)) m.integerExponent = static_cast<int>(e);
+    if (e >= 0 && e <= kMaxIntegerExponent && e == std::floor(e))
+      m.integerExponent = static_cast<int>(e);
     if (!(finish.refractionIndex > 0) || !std::isfinite(finish.refractionIndex))
       m.finish.refractionIndex = 1; // guards the Snell ratio against 0 and NaN
     return m;

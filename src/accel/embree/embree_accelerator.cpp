@@ -543,8 +543,9 @@ void EmbreeAccelerator::build() {
     if (placeable(mesh, uses[&mesh], placedTriangles)) {
       // Its triangles placed in the world, relative to the float frame.
       const Transform &place = e.worldFromObject;
-      RTCGeometry g = triangleGeometryOver(
-          mesh, paddedCopy(mesh, [&](const Vec3 &p) { return place.applyPoint(p) - frameOrigin_; }));
+      const Vec3f *placed =
+          paddedCopy(mesh, [&](const Vec3 &p) { return place.applyPoint(p) - frameOrigin_; });
+      RTCGeometry g = triangleGeometryOver(mesh, placed);
       rtcAttachGeometryByID(root_, g, id);
       rtcReleaseGeometry(g);
       continue;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace lray {
 namespace {
@@ -97,6 +98,33 @@ TEST(Sphere, TransformedNormalUsesInverseTranspose) {
   expectVecNear(h.p, {x, y, 0}, 1e-9);
   expectVecNear(h.ng, normalize(Vec3(x / 4, y, 0)), 1e-9);
   expectVecNear(h.pObject, {x / 2, y, 0}, 1e-9);
+}
+
+// Sphere::intersect settles rays that start outside and move away before
+// its roots: the answer must be the roots' own, for rays leaving the
+// surface within a few ulps (shadow rays from its points), grazing ones
+// and ones from far away; a negative tMin takes the roots behind.
+TEST(Sphere, OutwardRaysMissAsTheRootsSay) {
+  const Sphere sphere;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int settled = 0;
+  for (int i = 0; i < 200000; ++i) {
+    Vec3 p(u(rng), u(rng), u(rng));
+    if (length(p) == 0) continue;
+    const double scale = i % 3 == 0 ? 1 + std::ldexp(u(rng), -40) : 1 + std::fabs(u(rng)) * 1e3;
+    const Vec3 o = p / length(p) * scale;
+    Vec3 d(u(rng), u(rng), u(rng));
+    if (i % 5 == 0) d = d - o * (dot(d, o) / dot(o, o)); // about tangent
+    const double tMin = i % 11 == 0 ? -2e3 : (i % 7 == 0 ? 0.5 : 0.0); // -2e3: behind counts
+    const Ray r{o, d, tMin, i % 2 == 0 ? 1.0 : 1e30};
+    double t0, t1;
+    bool expected = sphere_detail::roots(r, t0, t1) && (inOpenRange(r, t0) || inOpenRange(r, t1));
+    ObjectHit hit;
+    EXPECT_EQ(sphere.intersect(r, hit), expected) << i;
+    settled += dot(o, d) > 0 && dot(o, o) - 1 > 0;
+  }
+  EXPECT_GT(settled, 50000);
 }
 
 TEST(Sphere, WorldBoundsAreExactForRotatedEllipsoid) {

@@ -31,8 +31,13 @@ struct Sphere {
 namespace sphere_detail {
 
 /// The roots t0 <= t1 of the ray's line with the unit sphere; false when the
-/// line misses it.
-inline bool roots(const Ray &ray, double &t0, double &t1) {
+/// line misses it. `Outward`: false also when the ray starts outside
+/// (c = |o|^2 - 1 > 0), moves away from the centre (h = o.d > 0) and has
+/// tMin >= 0: then no root lies past tMin, and the roots agree bit for bit
+/// (quadraticRoots' q = -(h + sqrt(disc)) is negative, so q / a and c / q
+/// are not positive). That skips the square root and divisions for a
+/// shadow ray leaving a sphere's lit side.
+template <bool Outward = false> inline bool roots(const Ray &ray, double &t0, double &t1) {
   const Vec3 &o = ray.o, &d = ray.d;
   double a = dot(d, d);
   if (!(a > 0)) return false;
@@ -43,6 +48,7 @@ inline bool roots(const Ray &ray, double &t0, double &t1) {
   // rounding, at most about 20 u |o|^2 a (u = 2^-53), and the test below's,
   // are far inside the margin, so this only drops lines that test drops.
   if (oo * a - h * h > a * (1 + 1e-12 * (1 + oo))) return false;
+  if (Outward && ray.tMin >= 0 && h > 0 && oo - 1 > 0) return false;
   // The reduced discriminant h^2 - a c equals a (1 - |v|^2), v = the ray's
   // closest point to the centre; this form does not cancel for distant or
   // grazing rays (pbrt-v4's sphere test).
@@ -58,7 +64,7 @@ inline bool roots(const Ray &ray, double &t0, double &t1) {
 
 inline bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
   double t0, t1;
-  if (!sphere_detail::roots(ray, t0, t1)) return false;
+  if (!sphere_detail::roots<true>(ray, t0, t1)) return false;
   if (inOpenRange(ray, t0)) {
     hit.t = t0;
   } else if (inOpenRange(ray, t1)) {

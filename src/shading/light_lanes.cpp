@@ -255,16 +255,22 @@ LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const Color &lightColor,
   _mm256_zeroupper();
 }
 
-/// 64-bit products' low halves in each lane (AVX2 multiplies 32 bits).
+/// 64-bit products' low halves in each lane: one instruction where the
+/// build targets AVX-512 (LRAY_NATIVE, README.md "Building"); AVX2 alone
+/// multiplies 32 bits, so three products and their sum.
 LRAY_AVX2 inline __m256i mul64(__m256i a, __m256i b) {
+#if defined(__AVX512DQ__) && defined(__AVX512VL__)
+  return _mm256_mullo_epi64(a, b);
+#else
   const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(a, _mm256_srli_epi64(b, 32)),
                                          _mm256_mul_epu32(_mm256_srli_epi64(a, 32), b));
   return _mm256_add_epi64(_mm256_mul_epu32(a, b), _mm256_slli_epi64(cross, 32));
+#endif
 }
 
 /// Sampler::independent(key, dim) in each lane: mix64, then the top 53
-/// bits converted exactly (as two halves, each by the 2^52 exponent trick)
-/// and scaled by 2^-53.
+/// bits converted exactly (by AVX-512's conversion, or as two halves, each
+/// by the 2^52 exponent trick) and scaled by 2^-53.
 LRAY_AVX2 inline __m256d independentLanes(__m256i key, __m256i dim) {
   const __m256i golden = _mm256_set1_epi64x(static_cast<int64_t>(0x9e3779b97f4a7c15ULL));
   __m256i z = _mm256_add_epi64(key, mul64(golden, dim));
@@ -273,11 +279,15 @@ LRAY_AVX2 inline __m256d independentLanes(__m256i key, __m256i dim) {
   z = mul64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 27)),
             _mm256_set1_epi64x(static_cast<int64_t>(0x94d049bb133111ebULL)));
   z = _mm256_srli_epi64(_mm256_xor_si256(z, _mm256_srli_epi64(z, 31)), 11);
+#if defined(__AVX512DQ__) && defined(__AVX512VL__)
+  return _mm256_cvtepu64_pd(z) * all(0x1p-53); // exact: z < 2^53
+#else
   const __m256i lo = _mm256_blend_epi32(z, _mm256_set1_epi64x(0x4330000000000000LL), 0xaa);
   const __m256i hi = _mm256_or_si256(_mm256_srli_epi64(z, 32),
                                      _mm256_set1_epi64x(0x4530000000000000LL));
   const __m256d value = (_mm256_castsi256_pd(hi) - all(0x1p84 + 0x1p52)) + _mm256_castsi256_pd(lo);
   return value * all(0x1p-53);
+#endif
 }
 
 /// The jitter of the active lanes in `span`, added to the cell each lane

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <vector>
 #include <set>
 
 #include <filesystem>
@@ -74,6 +76,31 @@ TEST(ImageWriter, QuantizeRoundsAsLroundDoes) {
     }
   }
   EXPECT_GT(checked, 5000000u);
+}
+
+TEST(ImageWriter, QuantizeFilmIsQuantizeValueByValue) {
+  // The frame's loop (its own inline copy for linear values) against
+  // quantize8, on values around every 8-bit step, out of range and NaN.
+  const float specials[] = {-0.f, 0.f, -1.f, 1.f, 2.f, std::nanf(""), -std::nanf(""),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            std::numeric_limits<float>::denorm_min(), 0x1p-149f * 3};
+  std::vector<float> values(std::begin(specials), std::end(specials));
+  for (int k = 0; k <= 255; ++k) {
+    float v = (k + 0.5f) / 255.f;
+    for (int step = 0; step < 8; ++step) v = std::nextafter(v, 0.f);
+    for (int step = 0; step < 16; ++step, v = std::nextafter(v, 2.f)) values.push_back(v);
+  }
+  values.resize((values.size() + 2) / 3 * 3, 0.25f);
+  Film film(static_cast<int>(values.size() / 3), 1);
+  for (int x = 0; x < film.width(); ++x)
+    film.set(x, 0, {values[3 * x], values[3 * x + 1], values[3 * x + 2]});
+  for (bool srgb : {false, true}) {
+    const std::vector<uint8_t> bytes = quantizeFilm(film, srgb);
+    ASSERT_EQ(bytes.size(), film.data().size());
+    for (size_t i = 0; i < bytes.size(); ++i)
+      ASSERT_EQ(bytes[i], quantize8(film.data()[i], srgb)) << film.data()[i] << " " << srgb;
+  }
 }
 
 Film testFilm() {

@@ -709,7 +709,10 @@ double EmbreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery que
       else rtcOccluded1(root_, &ctx.base, &rh.ray);
       continue;
     }
-    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    // As the renderer calls them (occludedCoherent: shadow packets as
+    // incoherent).
+    ctx.base.flags =
+        closest ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     const size_t lanes = std::min<size_t>(8, count - base);
     alignas(32) int valid[8];
     alignas(32) RTCRayHit8 rh;
@@ -737,7 +740,13 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     }
     QueryContext ctx;
     rtcInitIntersectContext(&ctx.base);
-    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    // Neighbouring points' shadow rays, but told to Embree as incoherent:
+    // measured so, its traversal of them is faster (the 2011 texture and
+    // finish examples -10 %, mesh200k with an area light -22 %; each ray's
+    // answer the same), while camera packets are faster told coherent
+    // (intersectCoherent). Shadow rays to an area light's jittered points
+    // part where they pass a mesh's edges, unlike a camera's.
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     ctx.rays = rays + base;
     rtcOccluded8(valid, root_, &ctx.base, &r8);
     for (unsigned i = 0; i < lanes; ++i) occluded[base + i] = r8.tfar[i] < 0 ? 1 : 0;

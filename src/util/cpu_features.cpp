@@ -4,39 +4,44 @@
 // run an instruction the CPU may lack.
 #include "util/cpu_features.h"
 
-#include <cerrno>
-#include <cstring>
+#include <cerrno> // program_invocation_short_name
 #include <unistd.h>
 
 namespace lray {
 
-bool cpuHasAvx2() {
-  static const bool avx2 = [] {
-    __builtin_cpu_init();
-    return static_cast<bool>(__builtin_cpu_supports("avx2"));
-  }();
-  return avx2;
-}
-
 namespace {
+
+/// Each feature's bit and its name, as __builtin_cpu_supports takes it (a
+/// literal) and the start-up message gives it: the one list both read.
+#define LRAY_CPU_FEATURES(X)                                                                       \
+  X(kCpuSse42, "sse4.2")                                                                           \
+  X(kCpuPopcnt, "popcnt")                                                                          \
+  X(kCpuAvx, "avx")                                                                                \
+  X(kCpuAvx2, "avx2")                                                                              \
+  X(kCpuFma, "fma")                                                                                \
+  X(kCpuBmi, "bmi")                                                                                \
+  X(kCpuBmi2, "bmi2")                                                                              \
+  X(kCpuAvx512f, "avx512f")                                                                        \
+  X(kCpuAvx512vl, "avx512vl")                                                                      \
+  X(kCpuAvx512bw, "avx512bw")                                                                      \
+  X(kCpuAvx512dq, "avx512dq")                                                                      \
+  X(kCpuAvx512cd, "avx512cd")                                                                      \
+  X(kCpuAvx512ifma, "avx512ifma")                                                                  \
+  X(kCpuAvx512vbmi, "avx512vbmi")                                                                  \
+  X(kCpuAvx512vbmi2, "avx512vbmi2")                                                                \
+  X(kCpuAvx512vnni, "avx512vnni")                                                                  \
+  X(kCpuAvx512bitalg, "avx512bitalg")                                                              \
+  X(kCpuAvx512vpopcntdq, "avx512vpopcntdq")                                                        \
+  X(kCpuAvx512bf16, "avx512bf16")
 
 struct NamedFeature {
   unsigned bit;
   const char *name;
 };
 
-constexpr NamedFeature kFeatureNames[] = {
-    {kCpuSse42, "sse4.2"},         {kCpuPopcnt, "popcnt"},
-    {kCpuAvx, "avx"},              {kCpuAvx2, "avx2"},
-    {kCpuFma, "fma"},              {kCpuBmi, "bmi"},
-    {kCpuBmi2, "bmi2"},            {kCpuAvx512f, "avx512f"},
-    {kCpuAvx512vl, "avx512vl"},    {kCpuAvx512bw, "avx512bw"},
-    {kCpuAvx512dq, "avx512dq"},    {kCpuAvx512cd, "avx512cd"},
-    {kCpuAvx512ifma, "avx512ifma"}, {kCpuAvx512vbmi, "avx512vbmi"},
-    {kCpuAvx512vbmi2, "avx512vbmi2"}, {kCpuAvx512vnni, "avx512vnni"},
-    {kCpuAvx512bitalg, "avx512bitalg"}, {kCpuAvx512vpopcntdq, "avx512vpopcntdq"},
-    {kCpuAvx512bf16, "avx512bf16"},
-};
+#define LRAY_NAMED_FEATURE(bit, name) {bit, name},
+constexpr NamedFeature kFeatureNames[] = {LRAY_CPU_FEATURES(LRAY_NAMED_FEATURE)};
+#undef LRAY_NAMED_FEATURE
 
 /// Appends `text` to out[0, size) at *used, keeping it terminated.
 void append(char *out, size_t size, size_t *used, const char *text) {
@@ -49,31 +54,20 @@ void append(char *out, size_t size, size_t *used, const char *text) {
 unsigned presentCpuFeatures() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_cpu_init();
-  // __builtin_cpu_supports takes a literal name.
   unsigned present = 0;
-  if (__builtin_cpu_supports("sse4.2")) present |= kCpuSse42;
-  if (__builtin_cpu_supports("popcnt")) present |= kCpuPopcnt;
-  if (__builtin_cpu_supports("avx")) present |= kCpuAvx;
-  if (__builtin_cpu_supports("avx2")) present |= kCpuAvx2;
-  if (__builtin_cpu_supports("fma")) present |= kCpuFma;
-  if (__builtin_cpu_supports("bmi")) present |= kCpuBmi;
-  if (__builtin_cpu_supports("bmi2")) present |= kCpuBmi2;
-  if (__builtin_cpu_supports("avx512f")) present |= kCpuAvx512f;
-  if (__builtin_cpu_supports("avx512vl")) present |= kCpuAvx512vl;
-  if (__builtin_cpu_supports("avx512bw")) present |= kCpuAvx512bw;
-  if (__builtin_cpu_supports("avx512dq")) present |= kCpuAvx512dq;
-  if (__builtin_cpu_supports("avx512cd")) present |= kCpuAvx512cd;
-  if (__builtin_cpu_supports("avx512ifma")) present |= kCpuAvx512ifma;
-  if (__builtin_cpu_supports("avx512vbmi")) present |= kCpuAvx512vbmi;
-  if (__builtin_cpu_supports("avx512vbmi2")) present |= kCpuAvx512vbmi2;
-  if (__builtin_cpu_supports("avx512vnni")) present |= kCpuAvx512vnni;
-  if (__builtin_cpu_supports("avx512bitalg")) present |= kCpuAvx512bitalg;
-  if (__builtin_cpu_supports("avx512vpopcntdq")) present |= kCpuAvx512vpopcntdq;
-  if (__builtin_cpu_supports("avx512bf16")) present |= kCpuAvx512bf16;
+#define LRAY_TEST_FEATURE(bit, name)                                                               \
+  if (__builtin_cpu_supports(name)) present |= bit;
+  LRAY_CPU_FEATURES(LRAY_TEST_FEATURE)
+#undef LRAY_TEST_FEATURE
   return present;
 #else
   return kCompiledCpuFeatures; // no x86 extensions to check
 #endif
+}
+
+bool cpuHasAvx2() {
+  static const bool avx2 = (presentCpuFeatures() & kCpuAvx2) != 0;
+  return avx2;
 }
 
 size_t missingCpuFeatures(unsigned compiled, unsigned present, char *out, size_t size) {

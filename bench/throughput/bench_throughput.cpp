@@ -6,9 +6,14 @@
 // (Embree's calls, or the kd-tree's walks: single rays, and packets where
 // LRay uses them), timed per kind.
 //   build/bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] [--repeats R]
-//       [--backend embree|kdtree] [--shutter S]
+//       [--backend embree|kdtree] [--shutter S] [--noise-threshold T [--min-samples N]
+//       [--max-samples N]] [--light-sampling all|spread] [--every-shadow-ray]
 // (--shutter: the frame with its shutter open, as `lray --shutter`: each
-// recorded ray keeps its time, and the replay asks the backend at it.)
+// recorded ray keeps its time, and the replay asks the backend at it.
+// --noise-threshold: adaptive sampling as `lray` does it, its defaults
+// included. --every-shadow-ray: the rays are recorded from a render with
+// `--no-shadow-skips`, so the shadow rays LRay settles itself are traced
+// by the backend too; the render timed keeps its skips.)
 // Prints one JSON line: render seconds (median of R), rays per kind, raw
 // backend seconds per kind (medians of R) and the share raw / render.
 #include "accel/embree/embree_accelerator.h"
@@ -41,18 +46,33 @@ struct Options {
   std::string scenePath;
   int width = 640, height = 360, samples = 3, frame = 0, repeats = 3;
   double shutter = -1; ///< the script's own unless given
+  double noiseThreshold = 0; ///< > 0: adaptive sampling
+  int minSamples = 16, maxSamples = 1024; ///< `lray`'s defaults (README.md)
+  const char *lightSampling = nullptr;   ///< `lray`'s default for the mode unless given
+  bool everyShadowRay = false;
 };
+
+FrameSettings frameSettings(const Options &o) {
+  FrameSettings settings;
+  settings.width = o.width;
+  settings.height = o.height;
+  settings.samples = o.samples;
+  settings.frameIndex = o.frame;
+  settings.adaptive = o.noiseThreshold > 0;
+  settings.adaptiveSettings.noiseThreshold = o.noiseThreshold;
+  settings.adaptiveSettings.minSamples = o.minSamples;
+  settings.adaptiveSettings.maxSamples = o.maxSamples;
+  const bool spread = o.lightSampling ? !std::strcmp(o.lightSampling, "spread") : settings.adaptive;
+  settings.lightSampling = spread ? LightSampling::Spread : LightSampling::All;
+  return settings;
+}
 
 /// Renders with `accel` R times, records one more render's rays, replays
 /// them through accel.rawSeconds and prints the JSON line.
 template <class Accel>
 void measure(const Accel &accel, const char *backend, const Scene &scene, const ImageCache &images,
              const Options &o) {
-  FrameSettings settings;
-  settings.width = o.width;
-  settings.height = o.height;
-  settings.samples = o.samples;
-  settings.frameIndex = o.frame;
+  FrameSettings settings = frameSettings(o);
   std::vector<double> renders;
   for (int r = 0; r < o.repeats; ++r) {
     Film film(o.width, o.height);
@@ -62,6 +82,7 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
     renders.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   RecordingAccelerator<Accel> recorder(accel);
+  settings.shadowSkips = !o.everyShadowRay;
   {
     Film film(o.width, o.height);
     RayCounts counts;
@@ -80,11 +101,13 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
                shadowPackets = raw(rays.shadowPackets, RawQuery::OcclusionPackets);
   const double render = median(renders), total = camera + secondary + shadow + shadowPackets;
   std::printf("{\"scene\": \"%s\", \"backend\": \"%s\", \"width\": %d, \"height\": %d, "
-              "\"samples\": %d, \"render_s\": %.4f, \"rays\": {\"camera\": %zu, "
+              "\"samples\": %d, \"noise_threshold\": %g, \"every_shadow_ray\": %s, "
+              "\"render_s\": %.4f, \"rays\": {\"camera\": %zu, "
               "\"secondary\": %zu, \"shadow\": %zu, \"shadow_packets\": %zu}, "
               "\"raw_s\": {\"camera\": %.4f, \"secondary\": %.4f, \"shadow\": %.4f, "
               "\"shadow_packets\": %.4f, \"total\": %.4f}, \"traversal_share\": %.3f}\n",
-              o.scenePath.c_str(), backend, o.width, o.height, o.samples, render,
+              o.scenePath.c_str(), backend, o.width, o.height, o.samples, o.noiseThreshold,
+              o.everyShadowRay ? "true" : "false", render,
               rays.camera.size(), rays.secondary.size(), rays.shadow.size(),
               rays.shadowPackets.size(), camera, secondary, shadow, shadowPackets, total,
               total / render);
@@ -95,13 +118,24 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
 int main(int argc, char **argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_throughput SCENE.lua [-w W] [-H H] [-s N] [--frame F] "
-                         "[--repeats R] [--backend embree|kdtree] [--shutter S]\n");
+                         "[--repeats R] [--backend embree|kdtree] [--shutter S] "
+                         "[--noise-threshold T] [--min-samples N] [--max-samples N] "
+                         "[--light-sampling all|spread] [--every-shadow-ray]\n");
     return 2;
   }
   Options o;
   o.scenePath = argv[1];
   std::string backend = "embree";
-  for (int i = 2; i + 1 < argc; i += 2) {
+  for (int i = 2; i < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--every-shadow-ray")) {
+      o.everyShadowRay = true;
+      --i;
+      continue;
+    }
+    if (i + 1 == argc) {
+      std::fprintf(stderr, "bench_throughput: %s needs a value\n", argv[i]);
+      return 2;
+    }
     const int v = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "-w")) o.width = v;
     else if (!std::strcmp(argv[i], "-H")) o.height = v;
@@ -109,6 +143,12 @@ int main(int argc, char **argv) {
     else if (!std::strcmp(argv[i], "--frame")) o.frame = v;
     else if (!std::strcmp(argv[i], "--repeats")) o.repeats = std::max(1, v);
     else if (!std::strcmp(argv[i], "--shutter")) o.shutter = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--noise-threshold")) o.noiseThreshold = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--min-samples")) o.minSamples = std::max(1, v);
+    else if (!std::strcmp(argv[i], "--max-samples")) o.maxSamples = std::max(1, v);
+    else if (!std::strcmp(argv[i], "--light-sampling") &&
+             (!std::strcmp(argv[i + 1], "all") || !std::strcmp(argv[i + 1], "spread")))
+      o.lightSampling = argv[i + 1];
     else if (!std::strcmp(argv[i], "--backend") &&
              (!std::strcmp(argv[i + 1], "embree") || !std::strcmp(argv[i + 1], "kdtree")))
       backend = argv[i + 1];

@@ -21,12 +21,18 @@ It also runs build/bench_throughput on the same frame and backend: the
 render timed on one thread, its rays recorded and traced again through
 the backend alone ("backend alone": Embree's calls, or the kd-tree's
 walks, over the render's time: issue 34's traversal share; the analytic
-shapes' tests are part of it).
+shapes' tests are part of it). With --every-shadow-ray a second column
+replays the rays of a render without shadow skips: every shadow ray the
+frame needs, those LRay settles itself (an empty shaft, a few analytic
+occluders tested directly) included, against the same render time.
+--noise-threshold profiles adaptive sampling instead of -s (the runs
+bench/time_vs_error matches against POV-Ray's levels).
 A table (markdown) goes to stdout and --out/profile.md. See README.md in
 this folder, and bench/README.md for the current figures.
 
     bench/throughput/profile.py                     # 640x360, -s 3, 1 thread, both backends
     bench/throughput/profile.py -w 320 -H 180 --backends embree --gallery
+    bench/throughput/profile.py --scenes ring,pigments --noise-threshold 0.15 --min-samples 1
 """
 
 import argparse
@@ -65,10 +71,11 @@ RULES = [
 ]
 
 
-def lray_run(lray, scene, out, args, extra, stats, perf=None, delay_ms=0):
+def lray_run(lray, scene, out, args, extra, stats, perf=None, delay_ms=0, frequency=2999):
     cmd = [lray, scene, out, "-q", "--stats", stats] + extra + args
     if perf:
-        cmd = ["perf", "record", "-q", "-F", "2999", "-o", perf, "-D", str(delay_ms), "--"] + cmd
+        cmd = ["perf", "record", "-q", "-F", str(frequency), "-o", perf, "-D", str(delay_ms),
+               "--"] + cmd
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     with open(stats) as f:
         return json.load(f)
@@ -108,6 +115,18 @@ def classify(perf_data):
     return {k: 100 * v / total for k, v in shares.items()}
 
 
+def replay_share(bench, path, args, frame, backend, flags):
+    """bench_throughput's traversal share, "share (backend s / render s)"."""
+    if not os.path.exists(bench):
+        return "-"
+    out_json = subprocess.run([bench, path] + args + ["--frame", frame, "--repeats", "3",
+                                                     "--backend", backend] + flags,
+                              check=True, capture_output=True, text=True).stdout
+    replay = json.loads(out_json)
+    return (f"{replay['traversal_share']:.2f} "
+            f"({replay['raw_s']['total']:.3f} / {replay['render_s']:.3f} s)")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lray", default=os.path.join(ROOT, "build", "lray"))
@@ -116,21 +135,41 @@ def main():
     ap.add_argument("-H", "--height", type=int, default=360)
     ap.add_argument("-s", "--samples", type=int, default=3)
     ap.add_argument("-t", "--threads", type=int, default=1)
+    ap.add_argument("--noise-threshold", type=float, default=0,
+                    help="adaptive sampling at this threshold instead of -s")
+    ap.add_argument("--min-samples", type=int, default=16, help="with --noise-threshold")
+    ap.add_argument("--max-samples", type=int, default=256, help="with --noise-threshold")
+    ap.add_argument("--scenes", default=",".join(SCENES),
+                    help="comma-separated subset of " + ",".join(SCENES))
+    ap.add_argument("--every-shadow-ray", action="store_true",
+                    help="also replay every shadow ray of the frame (memory: 72 bytes a ray; "
+                         "arealight at the defaults records 124 M rays, 9 GB)")
+    ap.add_argument("--frequency", type=int, default=2999, help="perf's samples per second")
     ap.add_argument("--backends", nargs="+", default=["embree", "kdtree"])
     ap.add_argument("--gallery", action="store_true", help="also scenes/*.lua, frame 0")
     ap.add_argument("--out", default=None, help="folder for profile.md (default: a temp folder)")
     a = ap.parse_args()
     out = a.out or tempfile.mkdtemp(prefix="lray_profile_")
     os.makedirs(out, exist_ok=True)
-    scenes = [(name, os.path.join(BENCH_SCENES, name + ".lua"), extra)
-              for name, extra in SCENES.items()]
+    chosen = a.scenes.split(",")
+    unknown = [n for n in chosen if n not in SCENES]
+    if unknown:
+        ap.error("unknown scene(s) %s (known: %s)" % (",".join(unknown), ",".join(SCENES)))
+    scenes = [(name, os.path.join(BENCH_SCENES, name + ".lua"), SCENES[name]) for name in chosen]
     if a.gallery:
         for f in sorted(os.listdir(os.path.join(ROOT, "scenes"))):
             if f.endswith(".lua") and f != "twins.lua":
                 scenes.append((f[:-4], os.path.join(ROOT, "scenes", f), ["--frames", "0"]))
-    args = ["-w", str(a.width), "-H", str(a.height), "-s", str(a.samples), "-t", str(a.threads)]
-    head = "| scene | backend | render s | backend alone | " + " | ".join(KINDS) + " |"
-    rows = [head, "|" + "---|" * (len(KINDS) + 4)]
+    sampling = ["-s", str(a.samples)]
+    if a.noise_threshold > 0:
+        sampling = ["--noise-threshold", str(a.noise_threshold), "--min-samples",
+                    str(a.min_samples), "--max-samples", str(a.max_samples)]
+    size = ["-w", str(a.width), "-H", str(a.height)]
+    args = size + sampling + ["-t", str(a.threads)]
+    every = ["every shadow ray alone"] if a.every_shadow_ray else []
+    head = ("| scene | backend | render s | backend alone | " + " | ".join(every + KINDS) +
+            " |")
+    rows = [head, "|" + "---|" * (len(every + KINDS) + 4)]
     print(head, flush=True)
     for name, path, extra in scenes:
         for backend in a.backends:
@@ -141,24 +180,17 @@ def main():
             before = t["load_script"] + t["scene"] + t["images"] + t["build"]
             perf = os.path.join(out, f"{name}.{backend}.perf")
             lray_run(a.lray, path, os.path.join(out, "img"), opts, extra, stats, perf,
-                     int(before * 1000) + 5)
+                     int(before * 1000) + 5, a.frequency)
             shares = classify(perf)
-            alone = "-"
-            if os.path.exists(a.bench):
-                frame = extra[1] if extra[:1] == ["--frames"] else "0"
-                out_json = subprocess.run(
-                    [a.bench, path, "-w", str(a.width), "-H", str(a.height), "-s",
-                     str(a.samples), "--frame", frame, "--repeats", "3", "--backend", backend],
-                    check=True, capture_output=True, text=True).stdout
-                replay = json.loads(out_json)
-                alone = (f"{replay['traversal_share']:.2f} "
-                         f"({replay['raw_s']['total']:.3f} / {replay['render_s']:.3f} s)")
-            row = f"| {name} | {backend} | {t['render']:.3f} | {alone} | " + " | ".join(
-                f"{shares[k]:.0f} %" for k in KINDS) + " |"
+            frame = extra[1] if extra[:1] == ["--frames"] else "0"
+            replays = [replay_share(a.bench, path, size + sampling, frame, backend, flags)
+                       for flags in ([[]] + ([["--every-shadow-ray"]] if every else []))]
+            row = (f"| {name} | {backend} | {t['render']:.3f} | " + " | ".join(replays) + " | " +
+                   " | ".join(f"{shares[k]:.0f} %" for k in KINDS) + " |")
             rows.append(row)
             print(row, flush=True)
     with open(os.path.join(out, "profile.md"), "w") as f:
-        f.write(f"{a.width}x{a.height}, -s {a.samples}, {a.threads} thread(s)\n\n")
+        f.write(f"{a.width}x{a.height}, {' '.join(sampling)}, {a.threads} thread(s)\n\n")
         f.write("\n".join(rows) + "\n")
     print(f"profile: {out}/profile.md", file=sys.stderr)
 

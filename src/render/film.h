@@ -48,11 +48,14 @@ public:
   }
   const ZeroedVector<float> &data() const { return rgb_; }
   /// A rendered pixel: the mean of its `count` samples, the variance of
-  /// that mean, and the error estimate made of the two (pixelError: 0
-  /// below two samples, whose variance is 0).
-  void setSamples(int x, int y, const Color &mean, const Color &variance, uint32_t count) {
+  /// that mean as independent samples would give it (EXR's Variance:
+  /// lray-compare's noise test rests on it), and the error estimate made of
+  /// the two for samples of the kind `samples` (pixelError: 0 below two
+  /// samples, whose variance is 0).
+  void setSamples(int x, int y, const Color &mean, const Color &variance, uint32_t count,
+                  SampleSet samples) {
     set(x, y, mean);
-    setError(x, y, static_cast<float>(pixelError(mean, variance)));
+    setError(x, y, static_cast<float>(pixelError(mean, variance, count, samples)));
     setVariance(x, y, variance);
     setSampleCount(x, y, count);
   }

@@ -12,8 +12,9 @@
 
 namespace lray {
 
-SampleBuffer::SampleBuffer(int width, int height, int x0, int y0, int x1, int y1)
-    : width_(width), height_(height), sums_(static_cast<size_t>(width) * height * 3),
+SampleBuffer::SampleBuffer(int width, int height, SampleSet samples, int x0, int y0, int x1,
+                           int y1)
+    : width_(width), height_(height), samples_(samples), sums_(static_cast<size_t>(width) * height * 3),
       squares_(static_cast<size_t>(width) * height * 6),
       count_(static_cast<size_t>(width) * height),
       active_(static_cast<size_t>(width) * height, 1),
@@ -38,7 +39,7 @@ bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
 
 double SampleBuffer::error(size_t i) const {
   if (count_[i] < 2) return 0;
-  return pixelError(mean(i), variance(i));
+  return pixelError(mean(i), variance(i), count_[i], samples_);
 }
 
 Color SampleBuffer::variance(size_t i) const {
@@ -123,7 +124,7 @@ void SampleBuffer::writeTo(Film &film) const {
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       const uint32_t n = count_[i];
-      film.setSamples(x, y, n ? mean(i) : Color(), variance(i), n);
+      film.setSamples(x, y, n ? mean(i) : Color(), variance(i), n, samples_);
     }
   });
   summarizeSampling(film);

@@ -6,6 +6,7 @@
 
 #include "math/color.h"
 #include "render/film.h"
+#include "render/pixel_error.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -19,7 +20,9 @@ class SampleBuffer {
 public:
   /// Pixels outside `region` (x0, y0, x1, y1; all of the frame when empty)
   /// never take part: inactive from the start, and never noisy neighbours.
-  SampleBuffer(int width, int height, int x0 = 0, int y0 = 0, int x1 = 0, int y1 = 0);
+  /// `samples`: what the pixels' samples are, for their error estimates.
+  SampleBuffer(int width, int height, SampleSet samples = SampleSet::Independent, int x0 = 0,
+               int y0 = 0, int x1 = 0, int y1 = 0);
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -113,6 +116,7 @@ private:
   Color variance(size_t i) const;
 
   int width_, height_;
+  SampleSet samples_;
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
   ZeroedVector<float> sums_; ///< per pixel: sum r,g,b
   /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift

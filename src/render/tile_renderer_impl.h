@@ -361,6 +361,11 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const PixelWindow crop = window(settings);
   tbb::combinable<RayCounts> perThread;
   auto stopped = [&] { return settings.cancel && settings.cancel->load(); };
+  // The Whitted integrator's samples are one stratified set per pixel; the
+  // path tracer's are taken as independent (render/pixel_error.h).
+  const SampleSet sampleSet = settings.integrator == IntegratorKind::Whitted
+                                  ? SampleSet::Stratified
+                                  : SampleSet::Independent;
   if (!settings.adaptive) {
     // Fixed sampling: n x n samples per pixel at the same Owen-scrambled
     // Sobol positions as adaptive sampling's (measured: lower RMSE than one
@@ -379,7 +384,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
                      local);
           for (size_t i = 0; i < count; ++i)
             film.setSamples(rect.x(i), rect.y(i), work.sums[i] * invSamples,
-                            varianceOfMean(work.sums[i], work.squares[i], total), total);
+                            varianceOfMean(work.sums[i], work.squares[i], total), total,
+                            sampleSet);
           return true;
         });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });
@@ -422,7 +428,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     region = {down(crop.x0 - margin), down(crop.y0 - margin), up(crop.x1 + margin, settings.width),
               up(crop.y1 + margin, settings.height)};
   }
-  SampleBuffer buffer(settings.width, settings.height, region.x0, region.y0, region.x1, region.y1);
+  SampleBuffer buffer(settings.width, settings.height, sampleSet, region.x0, region.y0, region.x1,
+                      region.y1);
   const auto start = std::chrono::steady_clock::now();
   const bool timed = adaptive.timeLimit > 0;
   const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(

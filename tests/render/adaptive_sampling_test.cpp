@@ -333,6 +333,51 @@ TEST_P(AdaptiveSampling, FixedSamplingReportsTheEstimateOfItsSamples) {
   EXPECT_FALSE(one.report.hasError);
 }
 
+// The Whitted integrator's samples are stratified: its estimate is the
+// samples' spread lowered by (n / 4)^(-1/4), and still above the true
+// error; the path tracer's is the spread's alone.
+TEST_P(AdaptiveSampling, StratifiedEstimateIsLoweredAndStaysAboveTheTrueError) {
+  const Film reference = render(scene, *accel, fixedSettings(24, LightSampling::All, 1));
+  for (int n : {4, 8}) {
+    const Film film = render(scene, *accel, fixedSettings(n));
+    double estimate = 0, actual = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const Color mean = film.get(x, y), spread = film.variance(x, y);
+        const double independent = pixelError(mean, spread);
+        if (independent == 0) continue;
+        EXPECT_NEAR(film.error(x, y) / independent, stratifiedErrorFactor(n * n), 1e-5);
+        const Color d = mean - reference.get(x, y);
+        actual += (std::abs(d.r) + std::abs(d.g) + std::abs(d.b)) /
+                  (1e-4 + std::sqrt(std::max(0.0, mean.r + mean.g + mean.b)));
+        estimate += film.error(x, y);
+      }
+    EXPECT_LT(actual, estimate) << n;
+    EXPECT_GT(actual, 0.1 * estimate) << n;
+  }
+  FrameSettings path = fixedSettings(4);
+  path.integrator = IntegratorKind::Path;
+  const Film paths = render(scene, *accel, path);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const double independent = pixelError(paths.get(x, y), paths.variance(x, y));
+      if (independent > 0) {
+        EXPECT_NEAR(paths.error(x, y) / independent, 1, 1e-5);
+      }
+    }
+}
+
+TEST(PixelError, StratifiedSamplesAreCreditedFromFourOn) {
+  for (uint32_t n : {0u, 1u, 2u, 3u, 4u}) EXPECT_EQ(stratifiedErrorFactor(n), 1) << n;
+  EXPECT_DOUBLE_EQ(stratifiedErrorFactor(16), std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(stratifiedErrorFactor(64), 0.5);
+  EXPECT_DOUBLE_EQ(stratifiedErrorFactor(1024), 0.25);
+  const Color mean{0.5, 0.2, 0.1}, variance{0.01, 0.02, 0.005};
+  EXPECT_EQ(pixelError(mean, variance, 64, SampleSet::Independent), pixelError(mean, variance));
+  EXPECT_EQ(pixelError(mean, variance, 64, SampleSet::Stratified),
+            pixelError(mean, variance) * 0.5);
+}
+
 TEST_P(AdaptiveSampling, AovsGiveDepthNormalAndAlbedoOfTheFirstHit) {
   FrameSettings fs = adaptiveSettings(0.05, 4, 16);
   fs.aovs = true;

@@ -14,7 +14,8 @@ namespace lray {
 
 SampleBuffer::SampleBuffer(int width, int height, SampleSet samples, int x0, int y0, int x1,
                            int y1)
-    : width_(width), height_(height), samples_(samples), sums_(static_cast<size_t>(width) * height * 3),
+    : width_(width), height_(height), samples_(samples),
+      sums_(static_cast<size_t>(width) * height * 3),
       squares_(static_cast<size_t>(width) * height * 6),
       count_(static_cast<size_t>(width) * height),
       active_(static_cast<size_t>(width) * height, 1),

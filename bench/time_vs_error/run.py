@@ -66,8 +66,8 @@ POV_SUPPORT = ["lray.inc", "texture.png"]
 REF_SAMPLES = 16
 LADDER = {
     "samples": [1, 2, 3, 4, 6, 8],
-    "thresholds": ["0.5", "0.3", "0.2", "0.15", "0.12", "0.1", "0.085", "0.07", "0.06", "0.05",
-                   "0.04", "0.03", "0.02", "0.01", "0.005"],
+    "thresholds": ["0.5", "0.3", "0.25", "0.2", "0.15", "0.12", "0.1", "0.085", "0.07", "0.06",
+                   "0.05", "0.04", "0.03", "0.02", "0.01", "0.005"],
     # time limits as fractions of the LRay reference's render time
     "time_fractions": [1 / 32, 1 / 16, 1 / 8, 1 / 4],
     "pov": [("noaa", "-A", ["-A"]),

@@ -46,8 +46,9 @@ inline double pixelError(const Color &mean, const Color &variance) {
 /// What a pixel's samples are, for its error estimate.
 enum class SampleSet {
   /// Taken as independent: the path tracer's, whose bounces' many
-  /// dimensions gain little from the stratification (measured: its error
-  /// is what the samples' spread says at 4, 16 and 64 samples).
+  /// dimensions gain little from the stratification (measured on the
+  /// Cornell box: its true error over the spread's estimate does not fall
+  /// from 4 to 64 samples).
   Independent,
   /// One Owen-scrambled Sobol set over the pixel (and the lens and the
   /// shutter), as the Whitted integrator takes them.

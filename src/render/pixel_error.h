@@ -61,8 +61,8 @@ enum class SampleSet {
 /// independent samples falls as n^(-1/2); that of scrambled Sobol samples
 /// falls as n^(-3/4) where an edge crosses the pixel (Owen 1997: variance
 /// O(n^(-3/2)) for an integrand with a jump along a curve) and faster
-/// where the pixel is smooth, so this rate is the one all of a picture
-/// reaches. Measured on the bench scenes (glass, pigments, an area light):
+/// where the pixel is smooth: the slowest rate in a picture, which every
+/// part of it reaches. Measured on the bench scenes (glass, pigments, an area light):
 /// the true error over the samples' estimate falls by 0.55-0.69 per 4x the
 /// samples, against this factor's 0.71, so the estimate stays above the
 /// true error, by less as samples are added.

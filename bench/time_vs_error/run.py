@@ -166,6 +166,11 @@ def read_rgb(path):
     return img[..., :3]
 
 
+def median_or_blank(values):
+    """The median of a run's repeated render times ("" when none was read)."""
+    return statistics.median(values) if values else ""
+
+
 def rmse(a, b):
     if a.shape != b.shape:
         raise BenchError("image sizes differ: %s and %s" % (a.shape, b.shape))
@@ -239,7 +244,7 @@ class Runner:
         if "frame" in info:
             cmd += ["--frames", str(info["frame"])]
         cmd += [str(a) for a in extra]
-        walls = []
+        walls, renders = [], []
         for k in range(self.args.repeat):
             shutil.rmtree(run_dir, ignore_errors=True)
             wall, _ = run_checked(cmd)
@@ -248,11 +253,13 @@ class Runner:
             if len(pngs) != 1:
                 raise BenchError("%s wrote %d PNG files, expected 1:\n  %s"
                                  % (self.lray, len(pngs), shlex.join(cmd)))
+            with open(stats) as f:
+                render_s = json.load(f).get("times", {}).get("render")
+            if render_s is not None:
+                renders.append(render_s)
             if k == 0:
                 shutil.move(pngs[0], final)  # repeats only add timings
-                with open(stats) as f:
-                    render_s = json.load(f).get("times", {}).get("render", "")
-        return statistics.median(walls), render_s, final, cmd
+        return statistics.median(walls), median_or_blank(renders), final, cmd
 
     def lray_row(self, scene, backend, mode, setting, extra, ref):
         name = "lray-%s-%s-%s" % (backend, mode, setting)
@@ -340,7 +347,7 @@ class Runner:
             cmd += ["+KFI0", "+KFF%d" % last, "+KI0", "+KF1", "+SF%d" % f, "+EF%d" % f]
         final = os.path.join(self.out, "renders", scene, name + ".png")
         os.makedirs(os.path.dirname(final), exist_ok=True)
-        walls = []
+        walls, traces = [], []
         for k in range(a.repeat):
             for old in glob.glob(os.path.join(self.pov_dir, base + "*.png")):
                 os.remove(old)
@@ -352,11 +359,12 @@ class Runner:
             if len(pngs) != 1:
                 raise BenchError("povray wrote %d images named %s*.png, expected 1:\n  %s\n%s"
                                  % (len(pngs), base, shlex.join(cmd), log[-4000:]))
+            times = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
+            if times:
+                traces.append(sum(float(t) for t in times))
             if k == 0:
                 shutil.move(pngs[0], final)
-                traces = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
-                trace_s = sum(float(t) for t in traces) if traces else ""
-        return statistics.median(walls), trace_s, final, cmd
+        return statistics.median(walls), median_or_blank(traces), final, cmd
 
     def pov_ladder(self, scene):
         ladder = QUICK_LADDER if self.args.quick else LADDER
@@ -425,8 +433,8 @@ class Runner:
                  "%dx%d, %d threads, `%s`%s; POV-Ray: %s. RMSE over R, G, B of the 8-bit sRGB-encoded "
                  "PNG values scaled to [0, 1], each image against its own renderer's reference "
                  "(LRay: `-s %d`, every light cell, embree; POV-Ray: `%s`); PSNR = 20 log10(1 / RMSE). "
-                 "Seconds: wall time of the whole process (median of %d); render s: LRay's "
-                 "`--stats` `times.render`, POV-Ray's trace time."
+                 "Seconds: wall time of the whole process; render s: LRay's "
+                 "`--stats` `times.render`, POV-Ray's trace time (medians of %d runs)."
                  % (a.width, a.height, a.threads, self.lray, " (--quick)" if a.quick else "",
                     self.pov or "not run", a.ref_samples, "+A0.0 +AM1 +R%d" % a.pov_ref_depth,
                     a.repeat), ""]
@@ -721,7 +729,8 @@ def main():
                         "reference's render time; --quick: 1/16, 1/4)")
     p.add_argument("--pov-ref-depth", type=int, default=POV_REF_DEPTH,
                    help="POV-Ray reference: +A0.0 +AM1 +R<N> (default 4)")
-    p.add_argument("--repeat", type=int, default=1, help="runs per setting, median wall time (default 1)")
+    p.add_argument("--repeat", type=int, default=1,
+                   help="runs per setting: medians of the wall and render times (default 1)")
     p.add_argument("--no-pov", action="store_true", help="skip POV-Ray even when it is on PATH")
     p.add_argument("--from-csv", action="store_true",
                    help="render nothing: rewrite results.md and the plot from --out's results.csv")

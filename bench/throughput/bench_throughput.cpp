@@ -23,6 +23,7 @@
 #include "shading/image_cache.h"
 #include "recording_accelerator.h"
 #include "run/frame_pipeline.h"
+#include "run/sampling_options.h"
 
 #include <tbb/global_control.h>
 
@@ -42,40 +43,22 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-struct Options {
-  std::string scenePath;
-  int width = 640, height = 360, samples = 3, frame = 0, repeats = 3;
-  double shutter = -1; ///< the script's own unless given
-  double noiseThreshold = 0; ///< > 0: adaptive sampling
-  int minSamples = 16, maxSamples = 1024; ///< `lray`'s defaults (README.md)
-  const char *lightSampling = nullptr;   ///< `lray`'s default for the mode unless given
+/// The bench's own options; the sampling ones go to `lray`'s Options, so
+/// that a frame is sampled as `lray` would sample it (run/sampling_options.h).
+struct BenchOptions {
+  int frame = 0, repeats = 3;
   bool everyShadowRay = false;
 };
-
-FrameSettings frameSettings(const Options &o) {
-  FrameSettings settings;
-  settings.width = o.width;
-  settings.height = o.height;
-  settings.samples = o.samples;
-  settings.frameIndex = o.frame;
-  settings.adaptive = o.noiseThreshold > 0;
-  settings.adaptiveSettings.noiseThreshold = o.noiseThreshold;
-  settings.adaptiveSettings.minSamples = o.minSamples;
-  settings.adaptiveSettings.maxSamples = o.maxSamples;
-  const bool spread = o.lightSampling ? !std::strcmp(o.lightSampling, "spread") : settings.adaptive;
-  settings.lightSampling = spread ? LightSampling::Spread : LightSampling::All;
-  return settings;
-}
 
 /// Renders with `accel` R times, records one more render's rays, replays
 /// them through accel.rawSeconds and prints the JSON line.
 template <class Accel>
 void measure(const Accel &accel, const char *backend, const Scene &scene, const ImageCache &images,
-             const Options &o) {
-  FrameSettings settings = frameSettings(o);
+             const std::string &scenePath, const FrameSettings &sampling, const BenchOptions &o) {
+  FrameSettings settings = sampling;
   std::vector<double> renders;
   for (int r = 0; r < o.repeats; ++r) {
-    Film film(o.width, o.height);
+    Film film(settings.width, settings.height);
     RayCounts counts;
     const auto t0 = std::chrono::steady_clock::now();
     renderTiles<Integrator<Accel>>(accel, scene, images, settings, film, counts, nullptr);
@@ -84,7 +67,7 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
   RecordingAccelerator<Accel> recorder(accel);
   settings.shadowSkips = !o.everyShadowRay;
   {
-    Film film(o.width, o.height);
+    Film film(settings.width, settings.height);
     RayCounts counts;
     renderTiles<Integrator<RecordingAccelerator<Accel>>>(recorder, scene, images, settings, film,
                                                          counts, nullptr);
@@ -106,7 +89,8 @@ void measure(const Accel &accel, const char *backend, const Scene &scene, const 
               "\"secondary\": %zu, \"shadow\": %zu, \"shadow_packets\": %zu}, "
               "\"raw_s\": {\"camera\": %.4f, \"secondary\": %.4f, \"shadow\": %.4f, "
               "\"shadow_packets\": %.4f, \"total\": %.4f}, \"traversal_share\": %.3f}\n",
-              o.scenePath.c_str(), backend, o.width, o.height, o.samples, o.noiseThreshold,
+              scenePath.c_str(), backend, settings.width, settings.height, settings.samples,
+              settings.adaptiveSettings.noiseThreshold,
               o.everyShadowRay ? "true" : "false", render,
               rays.camera.size(), rays.secondary.size(), rays.shadow.size(),
               rays.shadowPackets.size(), camera, secondary, shadow, shadowPackets, total,
@@ -123,8 +107,11 @@ int main(int argc, char **argv) {
                          "[--light-sampling all|spread] [--every-shadow-ray]\n");
     return 2;
   }
-  Options o;
-  o.scenePath = argv[1];
+  Options cli; // lray's: the size and the sampling
+  cli.scenePath = argv[1];
+  cli.width = 640;
+  cli.height = 360;
+  BenchOptions o;
   std::string backend = "embree";
   for (int i = 2; i < argc; i += 2) {
     if (!std::strcmp(argv[i], "--every-shadow-ray")) {
@@ -137,18 +124,20 @@ int main(int argc, char **argv) {
       return 2;
     }
     const int v = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "-w")) o.width = v;
-    else if (!std::strcmp(argv[i], "-H")) o.height = v;
-    else if (!std::strcmp(argv[i], "-s")) o.samples = v;
+    if (!std::strcmp(argv[i], "-w")) cli.width = v;
+    else if (!std::strcmp(argv[i], "-H")) cli.height = v;
+    else if (!std::strcmp(argv[i], "-s")) cli.samples = v;
     else if (!std::strcmp(argv[i], "--frame")) o.frame = v;
     else if (!std::strcmp(argv[i], "--repeats")) o.repeats = std::max(1, v);
-    else if (!std::strcmp(argv[i], "--shutter")) o.shutter = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--noise-threshold")) o.noiseThreshold = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--min-samples")) o.minSamples = std::max(1, v);
-    else if (!std::strcmp(argv[i], "--max-samples")) o.maxSamples = std::max(1, v);
-    else if (!std::strcmp(argv[i], "--light-sampling") &&
-             (!std::strcmp(argv[i + 1], "all") || !std::strcmp(argv[i + 1], "spread")))
-      o.lightSampling = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--shutter")) cli.shutter = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--noise-threshold"))
+      cli.noiseThreshold = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--min-samples")) cli.minSamples = v;
+    else if (!std::strcmp(argv[i], "--max-samples")) cli.maxSamples = v;
+    else if (!std::strcmp(argv[i], "--light-sampling") && !std::strcmp(argv[i + 1], "all"))
+      cli.lightSampling = LightSampling::All;
+    else if (!std::strcmp(argv[i], "--light-sampling") && !std::strcmp(argv[i + 1], "spread"))
+      cli.lightSampling = LightSampling::Spread;
     else if (!std::strcmp(argv[i], "--backend") &&
              (!std::strcmp(argv[i + 1], "embree") || !std::strcmp(argv[i + 1], "kdtree")))
       backend = argv[i + 1];
@@ -157,17 +146,25 @@ int main(int argc, char **argv) {
       return 2;
     }
   }
+  // -s 3 unless adaptive (as `lray`, -s is fixed sampling's).
+  if (!cli.samples && cli.noiseThreshold.value_or(0) <= 0) cli.samples = 3;
   tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
   try {
-    SceneScript script(o.scenePath);
-    SceneInfo info = script.info();
-    if (o.shutter >= 0) info.shutter = o.shutter;
+    SceneScript script(cli.scenePath);
+    const SceneInfo info = effectiveSceneInfo(script.info(), cli);
+    FrameSettings sampling = samplingSettings(info, cli);
+    sampling.integrator = IntegratorKind::Whitted; // the one this bench renders with
+    sampling.width = info.imageWidth;
+    sampling.height = info.imageHeight;
+    sampling.samples = info.samples;
+    sampling.frameIndex = o.frame;
     int calls = 0;
     Scene scene = buildFrameScene(script, info, o.frame, calls);
     ImageCache images(false);
     images.load(scene);
-    if (backend == "kdtree") measure(KdTreeAccelerator(scene), "kdtree", scene, images, o);
-    else measure(EmbreeAccelerator(scene), "embree", scene, images, o);
+    if (backend == "kdtree")
+      measure(KdTreeAccelerator(scene), "kdtree", scene, images, cli.scenePath, sampling, o);
+    else measure(EmbreeAccelerator(scene), "embree", scene, images, cli.scenePath, sampling, o);
   } catch (const std::exception &e) {
     std::fprintf(stderr, "bench_throughput: %s\n", e.what());
     return 1;

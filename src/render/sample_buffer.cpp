@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace lray {
 
@@ -59,7 +60,7 @@ Color SampleBuffer::mean(size_t i) const {
   return {s[0] / n, s[1] / n, s[2] / n};
 }
 
-double SampleBuffer::centreContrast(size_t i, double enough) const {
+double SampleBuffer::centreContrast(size_t i) const {
   const int x = static_cast<int>(i % static_cast<size_t>(width_));
   const int y = static_cast<int>(i / static_cast<size_t>(width_));
   const Color c = mean(i);
@@ -67,15 +68,86 @@ double SampleBuffer::centreContrast(size_t i, double enough) const {
   for (int ny = std::max(0, y - 1); ny <= std::min(height_ - 1, y + 1); ++ny)
     for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) {
       const size_t j = index(nx, ny);
-      if (j == i || !count_[j]) continue;
-      const Color d = mean(j);
-      const double difference = std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b);
-      if (difference == 0) continue; // most of a frame: no edge, and no square root
-      const double brightness = std::max(0.0, (c.r + c.g + c.b + d.r + d.g + d.b) / 2);
-      most = std::max(most, 0.5 * difference / (1e-4 + std::sqrt(brightness)));
-      if (most >= enough) return most;
+      if (j != i && count_[j]) most = std::max(most, centrePairContrast(c, mean(j)));
     }
   return most;
+}
+
+namespace {
+
+// centreEdges' bits of a pixel, for its pairs with the neighbours right of
+// it and below it: bit 2k, the pixel's verdict against neighbour k; bit
+// 2k + 1, the neighbour's against it.
+enum CentrePair { kRight, kDownLeft, kDown, kDownRight };
+constexpr uint8_t seenFromPixel(CentrePair k) { return uint8_t(1u << (2 * k)); }
+constexpr uint8_t seenFromNeighbour(CentrePair k) { return uint8_t(2u << (2 * k)); }
+
+} // namespace
+
+std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
+  // Each pair of neighbours once (the difference of their colours is the
+  // same both ways, and 0 across most of a frame), then each pixel's
+  // verdict gathered from its pairs: half the comparisons of one pixel at a
+  // time, and both passes run by rows in parallel.
+  const size_t pixels = count_.size();
+  std::vector<uint8_t> pairs(pixels), edges(pixels);
+  // Whether pixels i and j hold the same sums, bit for bit, and count:
+  // the same colour, no edge either way.
+  auto same = [&](size_t i, size_t j) {
+    uint64_t a, b;
+    uint32_t c, d;
+    std::memcpy(&a, &sums_[i * 3], sizeof a);
+    std::memcpy(&b, &sums_[j * 3], sizeof b);
+    std::memcpy(&c, &sums_[i * 3 + 2], sizeof c);
+    std::memcpy(&d, &sums_[j * 3 + 2], sizeof d);
+    return ((a ^ b) | (c ^ d) | (count_[i] ^ count_[j])) == 0;
+  };
+  const size_t w = static_cast<size_t>(width_);
+  tbb::parallel_for(0, height_, [&](int y) {
+    setFlushToZero();
+    for (int x = 0; x < width_; ++x) {
+      const size_t i = index(x, y);
+      if (!count_[i]) continue;
+      const bool right = x + 1 < width_, down = y + 1 < height_;
+      if ((!right || same(i, i + 1)) &&
+          (!down || ((x == 0 || same(i, i + w - 1)) && same(i, i + w) &&
+                     (!right || same(i, i + w + 1)))))
+        continue; // the pixel's four pairs show no edge (most of a frame)
+      const Color c = mean(i);
+      uint8_t bits = 0;
+      auto pair = [&](int nx, int ny, CentrePair k) {
+        const size_t j = index(nx, ny);
+        if (!count_[j] || same(i, j)) return;
+        const Color d = mean(j);
+        if (centrePairContrast(c, d) >= threshold) bits |= seenFromPixel(k);
+        if (centrePairContrast(d, c) >= threshold) bits |= seenFromNeighbour(k);
+      };
+      if (right) pair(x + 1, y, kRight);
+      if (down) {
+        if (x > 0) pair(x - 1, y + 1, kDownLeft);
+        pair(x, y + 1, kDown);
+        if (right) pair(x + 1, y + 1, kDownRight);
+      }
+      pairs[i] = bits;
+    }
+  });
+  constexpr uint8_t kOwn = seenFromPixel(kRight) | seenFromPixel(kDownLeft) |
+                           seenFromPixel(kDown) | seenFromPixel(kDownRight);
+  tbb::parallel_for(0, height_, [&](int y) {
+    for (int x = 0; x < width_; ++x) {
+      const size_t i = index(x, y);
+      bool edge = pairs[i] & kOwn;
+      if (x > 0) edge |= pairs[i - 1] & seenFromNeighbour(kRight);
+      if (y > 0) {
+        const size_t up = i - static_cast<size_t>(width_);
+        edge |= pairs[up] & seenFromNeighbour(kDown);
+        if (x > 0) edge |= pairs[up - 1] & seenFromNeighbour(kDownRight);
+        if (x + 1 < width_) edge |= pairs[up + 1] & seenFromNeighbour(kDownLeft);
+      }
+      edges[i] = edge;
+    }
+  });
+  return edges;
 }
 
 size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
@@ -86,10 +158,14 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // proportion to the active pixels, not the frame. A verdict reads only
   // the pixel's and its neighbours' sums, so they are reached in parallel
   // (after the centre-first pass, one per pixel of the frame).
+  // After the centre-first pass, the active pixels hold only their centres.
+  const bool centres = threshold > 0 && std::any_of(activeList_.begin(), activeList_.end(),
+                                                    [&](uint32_t i) { return centreOnly_[i]; });
+  const std::vector<uint8_t> edges = centres ? centreEdges(threshold) : std::vector<uint8_t>();
   auto isNoisy = [&](uint32_t i) {
     if (count_[i] >= maxSamples) return false;
     if (threshold <= 0) return true;
-    return (centreOnly_[i] ? centreContrast(i, threshold) : error(i)) >= threshold;
+    return centreOnly_[i] ? edges[i] != 0 : error(i) >= threshold;
   };
   std::vector<uint8_t> verdicts(activeList_.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, activeList_.size(), 4096),

@@ -9,12 +9,25 @@
 #include "render/pixel_error.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 namespace lray {
+
+/// How much an edge between two centre samples shows, seen from the one of
+/// colour `c`: the standard error of the mean of the two (half their
+/// difference, relative to the square root of their mean brightness),
+/// without its factor sqrt(2 / pi): one centre is a single sample, so an
+/// edge between two is looked for a little harder. Not symmetric in the
+/// last bits (the brightness is summed from c's channels on).
+inline double centrePairContrast(const Color &c, const Color &d) {
+  const double difference = std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b);
+  if (difference == 0) return 0; // most of a frame: no edge, and no square root
+  const double brightness = std::max(0.0, (c.r + c.g + c.b + d.r + d.g + d.b) / 2);
+  return 0.5 * difference / (1e-4 + std::sqrt(brightness));
+}
 
 class SampleBuffer {
 public:
@@ -86,14 +99,10 @@ public:
   double error(size_t i) const;
   /// For a pixel with only its centre sample: the largest standard error
   /// its mean would have were its two samples its own and one of its eight
-  /// neighbours' (half their difference, relative to the square root of
-  /// their mean brightness), i.e. how much an edge between them shows.
-  /// That is the estimate without its factor sqrt(2 / pi): one centre is a
-  /// single sample, so an edge between two is looked for a little harder.
-  /// Returns as soon as a neighbour gives `enough` or more (the first such
-  /// estimate), which decides `centreContrast(i) >= enough` alike.
-  double centreContrast(size_t i,
-                        double enough = std::numeric_limits<double>::infinity()) const;
+  /// neighbours' (centrePairContrast), i.e. how much an edge between them
+  /// shows. The definition updateActive's verdicts after the centre-first
+  /// pass follow (they take each pair of neighbours once, for both).
+  double centreContrast(size_t i) const;
 
   /// After a pass that brought every active pixel to `target` samples:
   /// a pixel stays active for the next pass if it or one of its eight
@@ -114,6 +123,9 @@ private:
   Color mean(size_t i) const;
   /// The variance of pixel i's mean, per channel (0 below two samples).
   Color variance(size_t i) const;
+  /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel
+  /// without samples), the pairs of neighbours taken once.
+  std::vector<uint8_t> centreEdges(double threshold) const;
 
   int width_, height_;
   SampleSet samples_;

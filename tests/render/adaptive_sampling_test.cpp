@@ -526,7 +526,7 @@ TEST(SampleBuffer, AnUnconvergedPixelKeepsItsEightNeighboursActive) {
   EXPECT_EQ(buffer.updateActive(0.01, 4), 0u);
 }
 
-TEST(SampleBuffer, CentreContrastStopsAtTheFirstNeighbourThatIsEnough) {
+TEST(SampleBuffer, CentreContrastIsTheLargestAgainstANeighbour) {
   // A 3 x 3 frame of centre samples: the middle pixel is grey, its
   // neighbours black but for one white and one mid-grey one.
   SampleBuffer buffer(3, 3);
@@ -535,26 +535,68 @@ TEST(SampleBuffer, CentreContrastStopsAtTheFirstNeighbourThatIsEnough) {
   buffer.setCentre(buffer.index(1, 1), {0.25, 0.25, 0.25});
   buffer.setCentre(buffer.index(2, 0), {0.3, 0.3, 0.3});
   buffer.setCentre(buffer.index(0, 2), {1, 1, 1});
-  const size_t middle = buffer.index(1, 1);
-  const double most = buffer.centreContrast(middle);
   // The largest estimate is against the white pixel: 0.5 * 2.25 / sqrt(1.875).
-  EXPECT_NEAR(most, 0.5 * 2.25 / (1e-4 + std::sqrt(1.875)), 1e-12);
-  // Against a black neighbour: 0.5 * 0.75 / sqrt(0.375), below the most.
-  const double black = 0.5 * 0.75 / (1e-4 + std::sqrt(0.375));
-  EXPECT_LT(black, most);
-  // With `enough` the answer decides `>= enough` as the whole search does,
-  // and returns the first estimate that reaches it.
-  for (double enough : {0.1, black, 0.7, most, most * 1.01, 5.0}) {
-    const double early = buffer.centreContrast(middle, enough);
-    EXPECT_EQ(early >= enough, most >= enough) << enough;
-    EXPECT_LE(early, most) << enough;
-  }
-  EXPECT_EQ(buffer.centreContrast(middle, 0.1), black); // (0, 0) comes first
-  // A flat neighbourhood shows no edge, however small `enough` is.
+  EXPECT_NEAR(buffer.centreContrast(buffer.index(1, 1)), 0.5 * 2.25 / (1e-4 + std::sqrt(1.875)),
+              1e-12);
+  // Against a black neighbour: 0.5 * 0.75 / sqrt(0.375).
+  EXPECT_NEAR(centrePairContrast({0.25, 0.25, 0.25}, {0, 0, 0}),
+              0.5 * 0.75 / (1e-4 + std::sqrt(0.375)), 1e-12);
+  // A flat neighbourhood shows no edge.
   SampleBuffer flat(2, 2);
   for (size_t i = 0; i < 4; ++i) flat.setCentre(i, {0.5, 0.5, 0.5});
   EXPECT_EQ(flat.centreContrast(0), 0.0);
-  EXPECT_EQ(flat.centreContrast(0, 1e-9), 0.0);
+  EXPECT_EQ(flat.updateActive(1e-9, 100), 0u);
+}
+
+// The verdicts after the centre-first pass take each pair of neighbours
+// once; they must be centreContrast's, pixel by pixel, at the frame's
+// borders and beside pixels outside the region.
+TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
+  const int w = 23, h = 17;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> shade(0, 5);
+  std::uniform_real_distribution<float> jitter(0.f, 1e-7f);
+  for (const double threshold : {0.02, 0.1, 0.3}) {
+    // A region short of the frame's borders, as for a cropped render.
+    for (const bool cropped : {false, true}) {
+      SampleBuffer buffer =
+          cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2) : SampleBuffer(w, h);
+      SampleBuffer reference = buffer;
+      std::vector<int> block((h / 3 + 1) * (w / 4 + 1));
+      for (int &b : block) b = shade(rng);
+      std::vector<uint32_t> active;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t i = buffer.index(x, y);
+          if (!buffer.active(i)) continue;
+          active.push_back(static_cast<uint32_t>(i));
+          // Blocks of a few levels (most neighbours equal), some pixels a
+          // hair off theirs.
+          const float v = block[(y / 3) * (w / 4 + 1) + x / 4] * 0.08f +
+                          (shade(rng) == 0 ? jitter(rng) : 0.f);
+          const Color c(v, v * 0.5f, shade(rng) == 0 && v > 0.2f ? 1.f : v);
+          buffer.setCentre(i, c);
+          reference.setCentre(i, c);
+        }
+      buffer.updateActive(threshold, 100);
+      std::vector<uint8_t> noisy(static_cast<size_t>(w) * h);
+      for (uint32_t i : active) noisy[i] = reference.centreContrast(i) >= threshold;
+      int edges = 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t i = buffer.index(x, y);
+          bool expected = false;
+          for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
+            for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx)
+              expected |= noisy[buffer.index(nx, ny)] != 0;
+          expected &= reference.active(i);
+          edges += noisy[i];
+          ASSERT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
+        }
+      EXPECT_GT(edges, 0);
+      EXPECT_LT(edges, static_cast<int>(active.size()));
+    }
+  }
 }
 
 TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {

@@ -51,13 +51,16 @@ public:
   /// that mean as independent samples would give it (EXR's Variance:
   /// lray-compare's noise test rests on it), and the error estimate made of
   /// the two for samples of the kind `samples` (pixelError: 0 below two
-  /// samples, whose variance is 0).
+  /// samples, whose variance is 0). Once per pixel of a new film: below two
+  /// samples the error and variance stay the 0 the film starts with, so a
+  /// frame of one-sample pixels never writes (maps) their pages.
   void setSamples(int x, int y, const Color &mean, const Color &variance, uint32_t count,
                   SampleSet samples) {
     set(x, y, mean);
+    setSampleCount(x, y, count);
+    if (count < 2) return;
     setError(x, y, static_cast<float>(pixelError(mean, variance, count, samples)));
     setVariance(x, y, variance);
-    setSampleCount(x, y, count);
   }
 
   /// The pixel's error estimate (0 with fewer than two samples).

@@ -45,9 +45,10 @@ double SampleBuffer::error(size_t i) const {
 }
 
 Color SampleBuffer::variance(size_t i) const {
+  const uint32_t n = count_[i];
+  if (n < 2) return {}; // (and a centre's squares are never read)
   const float *s = &sums_[i * 3];
   const float *q = &squares_[i * 6];
-  const uint32_t n = count_[i];
   const Color shifted = Color(s[0], s[1], s[2]) - Color(q[3], q[4], q[5]) * n;
   return varianceOfMean(shifted, {q[0], q[1], q[2]}, n);
 }

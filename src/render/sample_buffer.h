@@ -9,6 +9,7 @@
 #include "render/pixel_error.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -65,17 +66,15 @@ public:
     s[2] += static_cast<float>(sum.b);
     count_[i] += samples;
   }
-  /// The centre-first pass: pixel i's one sample, through its centre.
+  /// The centre-first pass: pixel i's one sample, through its centre (the
+  /// pixel has no samples yet). Its squares stay the 0 they start as, so
+  /// the pages of a frame that stops at its centres are never written.
   void setCentre(size_t i, const Color &c) {
+    assert(count_[i] == 0);
     float *s = &sums_[i * 3];
     s[0] = static_cast<float>(c.r);
     s[1] = static_cast<float>(c.g);
     s[2] = static_cast<float>(c.b);
-    float *q = &squares_[i * 6];
-    q[0] = q[1] = q[2] = 0.f;
-    q[3] = s[0];
-    q[4] = s[1];
-    q[5] = s[2];
     count_[i] = 1;
     centreOnly_[i] = 1;
   }

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -83,6 +84,30 @@ enum CentrePair { kRight, kDownLeft, kDown, kDownRight };
 constexpr uint8_t seenFromPixel(CentrePair k) { return uint8_t(1u << (2 * k)); }
 constexpr uint8_t seenFromNeighbour(CentrePair k) { return uint8_t(2u << (2 * k)); }
 
+/// The verdicts on a pair of different centres c and d: bit 0,
+/// centrePairContrast(c, d) >= threshold; bit 1, (d, c)'s.
+[[gnu::noinline]] unsigned pairVerdictsBothWays(const Color &c, const Color &d, double threshold) {
+  return unsigned(centrePairContrast(c, d) >= threshold) |
+         unsigned(centrePairContrast(d, c) >= threshold) << 1;
+}
+
+/// pairVerdictsBothWays, in a frame whose channels may be negative
+/// (`signedColours`) or not. Without one, the brightness's rounding,
+/// whichever way it is summed, is some 1e-16 of it: a pair well below the
+/// threshold is settled without the square root and division, and one
+/// away from it takes the same verdict both ways.
+inline unsigned pairVerdicts(const Color &c, const Color &d, double threshold,
+                             bool signedColours) {
+  if (signedColours) return pairVerdictsBothWays(c, d, threshold);
+  const double half = 0.5 * (std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b));
+  const double brightness = (c.r + c.g + c.b + d.r + d.g + d.b) / 2;
+  if (half * half < 0.98 * threshold * threshold * brightness) return 0;
+  const double contrast = centrePairContrast(c, d);
+  if (std::abs(contrast - threshold) <= 1e-9 * threshold)
+    return pairVerdictsBothWays(c, d, threshold);
+  return contrast >= threshold ? 3 : 0;
+}
+
 } // namespace
 
 std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
@@ -103,6 +128,10 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
     std::memcpy(&d, &sums_[j * 3 + 2], sizeof d);
     return ((a ^ b) | (c ^ d) | (count_[i] ^ count_[j])) == 0;
   };
+  // Whether any channel is negative (or -0): its sign bit.
+  uint32_t signs = 0;
+  for (const float v : sums_) signs |= std::bit_cast<uint32_t>(v);
+  const bool signedColours = signs >> 31;
   const size_t w = static_cast<size_t>(width_);
   tbb::parallel_for(0, height_, [&](int y) {
     setFlushToZero();
@@ -119,9 +148,7 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
       auto pair = [&](int nx, int ny, CentrePair k) {
         const size_t j = index(nx, ny);
         if (!count_[j] || same(i, j)) return;
-        const Color d = mean(j);
-        if (centrePairContrast(c, d) >= threshold) bits |= seenFromPixel(k);
-        if (centrePairContrast(d, c) >= threshold) bits |= seenFromNeighbour(k);
+        bits |= pairVerdicts(c, mean(j), threshold, signedColours) << (2 * k);
       };
       if (right) pair(x + 1, y, kRight);
       if (down) {
@@ -163,6 +190,7 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   const bool centres = threshold > 0 && std::any_of(activeList_.begin(), activeList_.end(),
                                                     [&](uint32_t i) { return centreOnly_[i]; });
   const std::vector<uint8_t> edges = centres ? centreEdges(threshold) : std::vector<uint8_t>();
+
   auto isNoisy = [&](uint32_t i) {
     if (count_[i] >= maxSamples) return false;
     if (threshold <= 0) return true;

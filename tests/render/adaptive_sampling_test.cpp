@@ -549,54 +549,75 @@ TEST(SampleBuffer, CentreContrastIsTheLargestAgainstANeighbour) {
 }
 
 // The verdicts after the centre-first pass take each pair of neighbours
-// once; they must be centreContrast's, pixel by pixel, at the frame's
-// borders and beside pixels outside the region.
+// once, and settle most pairs without their estimate; they must be
+// centreContrast's, pixel by pixel: at the frame's borders, beside pixels
+// outside the region, at a threshold an estimate meets exactly, and in a
+// frame with a negative channel.
 TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
   const int w = 23, h = 17;
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> shade(0, 5);
   std::uniform_real_distribution<float> jitter(0.f, 1e-7f);
-  for (const double threshold : {0.02, 0.1, 0.3}) {
-    // A region short of the frame's borders, as for a cropped render.
-    for (const bool cropped : {false, true}) {
-      SampleBuffer buffer =
-          cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2) : SampleBuffer(w, h);
-      SampleBuffer reference = buffer;
-      std::vector<int> block((h / 3 + 1) * (w / 4 + 1));
-      for (int &b : block) b = shade(rng);
-      std::vector<uint32_t> active;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          const size_t i = buffer.index(x, y);
-          if (!buffer.active(i)) continue;
-          active.push_back(static_cast<uint32_t>(i));
-          // Blocks of a few levels (most neighbours equal), some pixels a
-          // hair off theirs.
-          const float v = block[(y / 3) * (w / 4 + 1) + x / 4] * 0.08f +
-                          (shade(rng) == 0 ? jitter(rng) : 0.f);
-          const Color c(v, v * 0.5f, shade(rng) == 0 && v > 0.2f ? 1.f : v);
-          buffer.setCentre(i, c);
-          reference.setCentre(i, c);
-        }
-      buffer.updateActive(threshold, 100);
-      std::vector<uint8_t> noisy(static_cast<size_t>(w) * h);
-      for (uint32_t i : active) noisy[i] = reference.centreContrast(i) >= threshold;
-      int edges = 0;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          const size_t i = buffer.index(x, y);
-          bool expected = false;
-          for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
-            for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx)
-              expected |= noisy[buffer.index(nx, ny)] != 0;
-          expected &= reference.active(i);
-          edges += noisy[i];
-          ASSERT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
-        }
-      EXPECT_GT(edges, 0);
-      EXPECT_LT(edges, static_cast<int>(active.size()));
+  // Blocks of a few levels (most neighbours equal), some pixels a hair off
+  // theirs, some with a bright blue.
+  std::vector<int> block((h / 3 + 1) * (w / 4 + 1));
+  for (int &b : block) b = shade(rng);
+  std::vector<Color> frame;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float v =
+          block[(y / 3) * (w / 4 + 1) + x / 4] * 0.08f + (shade(rng) == 0 ? jitter(rng) : 0.f);
+      frame.emplace_back(v, v * 0.5f, shade(rng) == 0 && v > 0.2f ? 1.f : v);
     }
-  }
+  auto check = [&](const std::vector<Color> &colours, double threshold, bool cropped) {
+    // A region short of the frame's borders, as for a cropped render.
+    SampleBuffer buffer =
+        cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2) : SampleBuffer(w, h);
+    std::vector<uint32_t> active;
+    for (size_t i = 0; i < colours.size(); ++i)
+      if (buffer.active(i)) {
+        active.push_back(static_cast<uint32_t>(i));
+        buffer.setCentre(i, colours[i]);
+      }
+    const SampleBuffer reference = buffer;
+    buffer.updateActive(threshold, 100);
+    std::vector<uint8_t> noisy(colours.size());
+    for (uint32_t i : active) noisy[i] = reference.centreContrast(i) >= threshold;
+    int edges = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = buffer.index(x, y);
+        bool expected = false;
+        for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
+          for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx)
+            expected |= noisy[buffer.index(nx, ny)] != 0;
+        expected &= reference.active(i);
+        edges += noisy[i];
+        EXPECT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
+      }
+    EXPECT_GT(edges, 0) << threshold;
+    EXPECT_LT(edges, static_cast<int>(active.size())) << threshold;
+  };
+  // The estimate of the first two neighbours that differ, as a threshold.
+  double met = 0;
+  for (size_t i = 0; i + 1 < frame.size() && met == 0; ++i)
+    met = centrePairContrast(frame[i], frame[i + 1]);
+  ASSERT_GT(met, 0);
+  std::vector<Color> negative = frame;
+  negative[w * 8 + 11].g = -0.05;
+  for (const double threshold : {0.02, 0.1, 0.3, met})
+    for (const bool cropped : {false, true}) {
+      check(frame, threshold, cropped);
+      check(negative, threshold, cropped);
+    }
+  // Channels that cancel: summed from the left pixel on, the pair's
+  // brightness is 0.5 (estimate 0.70); from the right one, 0.005 (7.0).
+  SampleBuffer cancelling(2, 1);
+  cancelling.setCentre(0, {1e17, -1e17, 0.01});
+  cancelling.setCentre(1, {1e17, -1e17, 1});
+  EXPECT_LT(cancelling.centreContrast(0), 1);
+  EXPECT_GT(cancelling.centreContrast(1), 1);
+  EXPECT_EQ(cancelling.updateActive(1, 100), 2u);
 }
 
 TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {

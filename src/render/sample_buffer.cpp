@@ -17,23 +17,15 @@ namespace lray {
 SampleBuffer::SampleBuffer(int width, int height, SampleSet samples, int x0, int y0, int x1,
                            int y1)
     : width_(width), height_(height), samples_(samples),
+      region_{x1 > x0 && y1 > y0 ? PixelWindow{x0, y0, x1, y1} : PixelWindow{0, 0, width, height}},
       sums_(static_cast<size_t>(width) * height * 3),
       squares_(static_cast<size_t>(width) * height * 6),
-      count_(static_cast<size_t>(width) * height),
-      active_(static_cast<size_t>(width) * height, 1),
-      inRegion_(static_cast<size_t>(width) * height, 1),
-      centreOnly_(static_cast<size_t>(width) * height) {
-  if (x1 > x0 && y1 > y0)
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
-        if (x < x0 || x >= x1 || y < y0 || y >= y1)
-          active_[index(x, y)] = inRegion_[index(x, y)] = 0;
-  activeList_.reserve(active_.size());
-  for (size_t i = 0; i < active_.size(); ++i)
-    if (active_[i]) activeList_.push_back(static_cast<uint32_t>(i));
-}
+      count_(static_cast<size_t>(width) * height), active_(static_cast<size_t>(width) * height),
+      centreOnly_(static_cast<size_t>(width) * height) {}
 
 bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
+  if (wholeRegionActive_)
+    return x0 < region_.x1 && region_.x0 < x1 && y0 < region_.y1 && region_.y0 < y1;
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x)
       if (active_[index(x, y)]) return true;
@@ -186,9 +178,20 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // proportion to the active pixels, not the frame. A verdict reads only
   // the pixel's and its neighbours' sums, so they are reached in parallel
   // (after the centre-first pass, one per pixel of the frame).
+  // Before the first verdicts every pixel of the region is active, and none
+  // is listed (a new buffer writes nothing: util/zeroed_vector.h).
+  const size_t regionWidth = static_cast<size_t>(region_.x1 - region_.x0);
+  const size_t judged = wholeRegionActive_
+                            ? regionWidth * static_cast<size_t>(region_.y1 - region_.y0)
+                            : activeList_.size();
+  auto pixel = [&](size_t k) -> uint32_t {
+    if (!wholeRegionActive_) return activeList_[k];
+    return static_cast<uint32_t>(index(region_.x0 + static_cast<int>(k % regionWidth),
+                                       region_.y0 + static_cast<int>(k / regionWidth)));
+  };
   // After the centre-first pass, the active pixels hold only their centres.
-  const bool centres = threshold > 0 && std::any_of(activeList_.begin(), activeList_.end(),
-                                                    [&](uint32_t i) { return centreOnly_[i]; });
+  bool centres = false;
+  for (size_t k = 0; k < judged && threshold > 0 && !centres; ++k) centres = centreOnly_[pixel(k)];
   const std::vector<uint8_t> edges = centres ? centreEdges(threshold) : std::vector<uint8_t>();
 
   auto isNoisy = [&](uint32_t i) {
@@ -196,18 +199,19 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
     if (threshold <= 0) return true;
     return centreOnly_[i] ? edges[i] != 0 : error(i) >= threshold;
   };
-  std::vector<uint8_t> verdicts(activeList_.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, activeList_.size(), 4096),
+  std::vector<uint8_t> verdicts(judged);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, judged, 4096),
                     [&](const tbb::blocked_range<size_t> &r) {
                       setFlushToZero();
-                      for (size_t k = r.begin(); k != r.end(); ++k)
-                        verdicts[k] = isNoisy(activeList_[k]);
+                      for (size_t k = r.begin(); k != r.end(); ++k) verdicts[k] = isNoisy(pixel(k));
                     });
   std::vector<uint32_t> noisy;
-  for (size_t k = 0; k < activeList_.size(); ++k) {
-    active_[activeList_[k]] = 0;
-    if (verdicts[k]) noisy.push_back(activeList_[k]);
+  for (size_t k = 0; k < judged; ++k) {
+    const uint32_t i = pixel(k);
+    active_[i] = 0;
+    if (verdicts[k]) noisy.push_back(i);
   }
+  wholeRegionActive_ = false;
   activeList_.clear();
   for (uint32_t i : noisy) {
     const int x = static_cast<int>(i % static_cast<uint32_t>(width_));
@@ -215,7 +219,7 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
     for (int ny = std::max(0, y - 1); ny <= std::min(height_ - 1, y + 1); ++ny)
       for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) {
         const size_t j = index(nx, ny);
-        if (active_[j] || !inRegion_[j] || count_[j] >= maxSamples) continue;
+        if (active_[j] || !inRegion(nx, ny) || count_[j] >= maxSamples) continue;
         active_[j] = 1;
         activeList_.push_back(static_cast<uint32_t>(j));
       }

@@ -6,6 +6,7 @@
 
 #include "math/color.h"
 #include "render/film.h"
+#include "render/frame_settings.h"
 #include "render/pixel_error.h"
 
 #include <algorithm>
@@ -90,7 +91,11 @@ public:
     return true;
   }
   uint32_t count(size_t i) const { return count_[i]; }
-  bool active(size_t i) const { return active_[i] != 0; }
+  bool active(size_t i) const {
+    if (!wholeRegionActive_) return active_[i] != 0;
+    return inRegion(static_cast<int>(i % static_cast<size_t>(width_)),
+                    static_cast<int>(i / static_cast<size_t>(width_)));
+  }
   /// Whether any pixel of the rectangle [x0,x1) x [y0,y1) is active.
   bool anyActive(int x0, int y0, int x1, int y1) const;
 
@@ -125,17 +130,24 @@ private:
   /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel
   /// without samples), the pairs of neighbours taken once.
   std::vector<uint8_t> centreEdges(double threshold) const;
+  bool inRegion(int x, int y) const {
+    return x >= region_.x0 && x < region_.x1 && y >= region_.y0 && y < region_.y1;
+  }
 
   int width_, height_;
   SampleSet samples_;
+  PixelWindow region_; ///< the pixels that take part
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
   ZeroedVector<float> sums_; ///< per pixel: sum r,g,b
   /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift
   ZeroedVector<float> squares_;
   ZeroedVector<uint32_t> count_;
-  std::vector<uint8_t> active_;
+  /// Whether each pixel is active (once wholeRegionActive_ is false).
+  ZeroedVector<uint8_t> active_;
+  /// Until the first verdicts: every pixel of the region is active, and
+  /// neither active_ nor activeList_ says so.
+  bool wholeRegionActive_ = true;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels
-  std::vector<uint8_t> inRegion_;
   ZeroedVector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
 };
 

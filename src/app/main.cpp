@@ -18,5 +18,11 @@ int main(int argc, char **argv) {
   // below mmap; the heap is never trimmed), they are reused as they are.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  // A new buffer (calloc, util/zeroed_vector.h) is left to the render
+  // threads to map, but calloc zeroes, on the calling thread, whatever part
+  // of it the heap had already taken from the kernel: by default a pad of
+  // 128 KB past each growth, so each of a frame's buffers cost the main
+  // thread 32 page faults. Grown by what is asked for alone, nothing is.
+  mallopt(M_TOP_PAD, 0);
   return lray::runLray(argc, argv);
 }

@@ -8,8 +8,10 @@
 #include "render/pixel_error.h"
 #include "util/zeroed_vector.h"
 
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace lray {
@@ -61,6 +63,14 @@ public:
     if (count < 2) return;
     setError(x, y, static_cast<float>(pixelError(mean, variance, count, samples)));
     setVariance(x, y, variance);
+  }
+
+  /// Takes `rgb` (three floats a pixel, as data()) and `samples` (a count
+  /// a pixel) as its colours and sample counts (SampleBuffer::moveTo).
+  void adopt(ZeroedVector<float> &&rgb, ZeroedVector<uint32_t> &&samples) {
+    assert(rgb.size() == rgb_.size() && samples.size() == samples_.size());
+    rgb_ = std::move(rgb);
+    samples_ = std::move(samples);
   }
 
   /// The pixel's error estimate (0 with fewer than two samples).

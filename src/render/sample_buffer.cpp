@@ -240,6 +240,29 @@ void SampleBuffer::writeTo(Film &film) const {
   summarizeSampling(film);
 }
 
+void SampleBuffer::moveTo(Film &film) && {
+  // The sums become the means where they lie: a pixel of one sample holds
+  // its mean already, one without samples 0 (the same values writeTo
+  // gives), so only pixels of two samples or more are written.
+  tbb::parallel_for(0, height_, [&](int y) {
+    setFlushToZero();
+    for (int x = 0; x < width_; ++x) {
+      const size_t i = index(x, y);
+      const uint32_t n = count_[i];
+      if (n < 2) continue;
+      const Color m = mean(i), v = variance(i);
+      film.setError(x, y, static_cast<float>(pixelError(m, v, n, samples_)));
+      film.setVariance(x, y, v);
+      float *sum = &sums_[i * 3];
+      sum[0] = static_cast<float>(m.r);
+      sum[1] = static_cast<float>(m.g);
+      sum[2] = static_cast<float>(m.b);
+    }
+  });
+  film.adopt(std::move(sums_), std::move(count_));
+  summarizeSampling(film);
+}
+
 void summarizeSampling(Film &film) {
   double errorSum = 0, errorMax = 0;
   size_t withError = 0;

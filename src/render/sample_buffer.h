@@ -121,6 +121,10 @@ public:
 
   /// The averaged colours, estimates and counts, and the report's figures.
   void writeTo(Film &film) const;
+  /// writeTo, the last use of the buffer: the film (new, as for
+  /// Film::setSamples) takes its sums, averaged where they lie, and its
+  /// counts, instead of copies of them.
+  void moveTo(Film &film) &&;
 
 private:
   /// Pixel i's mean colour (it has samples).

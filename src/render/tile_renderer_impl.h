@@ -499,7 +499,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     target = centreFirst && pass == 0 ? firstSobol : std::min(maxSamples, target + step);
   }
   perThread.combine_each([&](const RayCounts &c) { counts += c; });
-  buffer.writeTo(film);
+  std::move(buffer).moveTo(film);
   if (settings.aovs) renderAovs(accel, integrator, scene, camera, settings, film);
   film.report.passes = passes;
   film.report.timeLimitHit = timeUp;

@@ -650,5 +650,38 @@ TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {
   EXPECT_NEAR(film.variance(0, 0).g, expected, 1e-3 * expected);
 }
 
+// The film taking the buffer's own sums and counts holds what a copy does:
+// pixels without samples, with a centre, and with several.
+TEST(SampleBuffer, MovedToAFilmAsWrittenToIt) {
+  const int w = 9, h = 5;
+  SampleBuffer buffer(w, h, SampleSet::Stratified, 1, 0, w, h); // column 0 never sampled
+  for (int y = 0; y < h; ++y)
+    for (int x = 1; x < w; ++x) {
+      const size_t i = buffer.index(x, y);
+      const double v = 0.1 * x + 0.03 * y;
+      if ((x + y) % 3 == 0) {
+        buffer.setCentre(i, {v, v / 3, 1.7});
+        continue;
+      }
+      const uint32_t n = 4 + x;
+      buffer.add(i, Color(v, 2 * v, 0.5) * n, Color(v * v + 0.01, 4 * v * v, 0.3) * n, n);
+    }
+  Film copied(w, h), moved(w, h);
+  buffer.writeTo(copied);
+  std::move(buffer).moveTo(moved);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      EXPECT_EQ(moved.get(x, y), copied.get(x, y)) << x << "," << y;
+      EXPECT_EQ(moved.variance(x, y), copied.variance(x, y)) << x << "," << y;
+      EXPECT_EQ(moved.error(x, y), copied.error(x, y)) << x << "," << y;
+      EXPECT_EQ(moved.sampleCount(x, y), copied.sampleCount(x, y)) << x << "," << y;
+    }
+  EXPECT_EQ(moved.sampleCount(0, 2), 0u);
+  EXPECT_GT(moved.error(2, 0), 0.f);
+  EXPECT_EQ(moved.report.samples, copied.report.samples);
+  EXPECT_EQ(moved.report.meanError, copied.report.meanError);
+  EXPECT_EQ(moved.report.maxPixelSamples, copied.report.maxPixelSamples);
+}
+
 } // namespace
 } // namespace lray

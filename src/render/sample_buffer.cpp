@@ -172,46 +172,25 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
 
 size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
   // Not converged, then dilated by one pixel so the neighbours of a noisy
-  // pixel (the other side of an edge, say) are not starved. Only active
-  // pixels can be noisy: an inactive one had no noisy pixel around it, so
-  // was not noisy itself, and took no samples since. So the work is in
-  // proportion to the active pixels, not the frame. A verdict reads only
-  // the pixel's and its neighbours' sums, so they are reached in parallel
-  // (after the centre-first pass, one per pixel of the frame).
-  // Before the first verdicts every pixel of the region is active, and none
-  // is listed (a new buffer writes nothing: util/zeroed_vector.h).
-  const size_t regionWidth = static_cast<size_t>(region_.x1 - region_.x0);
-  const size_t judged = wholeRegionActive_
-                            ? regionWidth * static_cast<size_t>(region_.y1 - region_.y0)
-                            : activeList_.size();
-  auto pixel = [&](size_t k) -> uint32_t {
-    if (!wholeRegionActive_) return activeList_[k];
-    return static_cast<uint32_t>(index(region_.x0 + static_cast<int>(k % regionWidth),
-                                       region_.y0 + static_cast<int>(k / regionWidth)));
-  };
-  // After the centre-first pass, the active pixels hold only their centres.
-  bool centres = false;
-  for (size_t k = 0; k < judged && threshold > 0 && !centres; ++k) centres = centreOnly_[pixel(k)];
-  const std::vector<uint8_t> edges = centres ? centreEdges(threshold) : std::vector<uint8_t>();
-
-  auto isNoisy = [&](uint32_t i) {
-    if (count_[i] >= maxSamples) return false;
-    if (threshold <= 0) return true;
-    return centreOnly_[i] ? edges[i] != 0 : error(i) >= threshold;
-  };
-  std::vector<uint8_t> verdicts(judged);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, judged, 4096),
+  // pixel (the other side of an edge, say) are not starved.
+  if (wholeRegionActive_) return judgeRegion(threshold, maxSamples);
+  // Only active pixels can be noisy: an inactive one had no noisy pixel
+  // around it, so was not noisy itself, and took no samples since. So the
+  // work is in proportion to the active pixels, not the frame. A verdict
+  // reads only the pixel's and its neighbours' sums, so they are reached in
+  // parallel. No pixel holds only its centre after the first verdicts.
+  std::vector<uint8_t> verdicts(activeList_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, activeList_.size(), 4096),
                     [&](const tbb::blocked_range<size_t> &r) {
                       setFlushToZero();
-                      for (size_t k = r.begin(); k != r.end(); ++k) verdicts[k] = isNoisy(pixel(k));
+                      for (size_t k = r.begin(); k != r.end(); ++k)
+                        verdicts[k] = isNoisy(activeList_[k], threshold, maxSamples, false);
                     });
   std::vector<uint32_t> noisy;
-  for (size_t k = 0; k < judged; ++k) {
-    const uint32_t i = pixel(k);
-    active_[i] = 0;
-    if (verdicts[k]) noisy.push_back(i);
+  for (size_t k = 0; k < activeList_.size(); ++k) {
+    active_[activeList_[k]] = 0;
+    if (verdicts[k]) noisy.push_back(activeList_[k]);
   }
-  wholeRegionActive_ = false;
   activeList_.clear();
   for (uint32_t i : noisy) {
     const int x = static_cast<int>(i % static_cast<uint32_t>(width_));
@@ -224,6 +203,54 @@ size_t SampleBuffer::updateActive(double threshold, uint32_t maxSamples) {
         activeList_.push_back(static_cast<uint32_t>(j));
       }
   }
+  return activeList_.size();
+}
+
+bool SampleBuffer::isNoisy(size_t i, double threshold, uint32_t maxSamples, bool edge) const {
+  if (count_[i] >= maxSamples) return false;
+  if (threshold <= 0) return true;
+  return centreOnly_[i] ? edge : error(i) >= threshold;
+}
+
+size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
+  // The first verdicts are on every pixel of the region (after the
+  // centre-first pass, one per pixel of the frame), so they and then the
+  // dilation are taken pixel by pixel, by rows in parallel, into flags for
+  // the frame; the list of active pixels is read off the flags after.
+  const size_t pixels = count_.size();
+  const PixelWindow r = region_;
+  bool centres = false;
+  for (int y = r.y0; y < r.y1 && threshold > 0 && !centres; ++y) {
+    const uint8_t *row = centreOnly_.data() + index(r.x0, y);
+    centres = std::any_of(row, row + (r.x1 - r.x0), [](uint8_t c) { return c != 0; });
+  }
+  std::vector<uint8_t> noisy = centres ? centreEdges(threshold) : std::vector<uint8_t>(pixels);
+  tbb::parallel_for(r.y0, r.y1, [&](int y) {
+    setFlushToZero();
+    for (int x = r.x0; x < r.x1; ++x) {
+      const size_t i = index(x, y);
+      noisy[i] = isNoisy(i, threshold, maxSamples, noisy[i] != 0);
+    }
+  });
+  tbb::parallel_for(r.y0, r.y1, [&](int y) {
+    // The 3 x 3 block around each pixel, clipped to the frame (a row or
+    // column past it is read as the one at the edge again).
+    const uint8_t *up = &noisy[index(0, std::max(0, y - 1))];
+    const uint8_t *row = &noisy[index(0, y)];
+    const uint8_t *down = &noisy[index(0, std::min(height_ - 1, y + 1))];
+    const uint32_t *count = &count_[index(0, y)];
+    uint8_t *active = &active_[index(0, y)];
+    for (int x = r.x0; x < r.x1; ++x) {
+      const int left = std::max(0, x - 1), right = std::min(width_ - 1, x + 1);
+      const int near = up[left] | up[x] | up[right] | row[left] | row[x] | row[right] |
+                       down[left] | down[x] | down[right];
+      active[x] = near != 0 && count[x] < maxSamples;
+    }
+  });
+  wholeRegionActive_ = false;
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x)
+      if (active_[index(x, y)]) activeList_.push_back(static_cast<uint32_t>(index(x, y)));
   return activeList_.size();
 }
 

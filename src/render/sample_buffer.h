@@ -134,6 +134,11 @@ private:
   /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel
   /// without samples), the pairs of neighbours taken once.
   std::vector<uint8_t> centreEdges(double threshold) const;
+  /// Pixel i's verdict: not converged (below maxSamples, and an error of
+  /// threshold or more, or `edge` for a pixel of only its centre).
+  bool isNoisy(size_t i, double threshold, uint32_t maxSamples, bool edge) const;
+  /// updateActive's first verdicts, on every pixel of the region.
+  size_t judgeRegion(double threshold, uint32_t maxSamples);
   bool inRegion(int x, int y) const {
     return x >= region_.x0 && x < region_.x1 && y >= region_.y0 && y < region_.y1;
   }

@@ -27,8 +27,12 @@ public:
   /// the tile loop computes once per pixel, not once per sample.
   Sampler(uint64_t pixelKey, uint64_t sample) : key_(mix64(pixelKey ^ sample)) {}
   static uint64_t pixelKey(uint64_t frame, uint64_t pixel) {
-    return mix64(mix64(frame + 0x9e3779b97f4a7c15ULL) ^ pixel);
+    return pixelKeyOf(frameKey(frame), pixel);
   }
+  /// pixelKey in two halves: the frame's, the same for all its pixels,
+  /// then a pixel's.
+  static uint64_t frameKey(uint64_t frame) { return mix64(frame + 0x9e3779b97f4a7c15ULL); }
+  static uint64_t pixelKeyOf(uint64_t frameKey, uint64_t pixel) { return mix64(frameKey ^ pixel); }
 
   /// Stratified dimensions from here on, `index` being the sample's index
   /// among its pixel's and `pixelSeed` the pixel's (the same for all its

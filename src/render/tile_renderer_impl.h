@@ -43,34 +43,28 @@ struct TileRect {
   int y(size_t i) const { return y0 + static_cast<int>(i) / width(); }
 };
 
-/// The random offset of a pixel's light strata (Integrator, lightShares):
-/// the same for all its samples, so consecutive samples take consecutive
-/// shares.
-inline uint32_t lightStratumOffset(uint64_t stream, uint64_t pixel) {
-  return static_cast<uint32_t>(mix64(mix64(stream ^ 0x243f6a8885a308d3ULL) ^
-                                     pixel) >>
-                               32);
-}
-
-/// The Owen scramble seed of a pixel's progressive sample positions.
-inline uint64_t pixelPatternSeed(uint64_t stream, uint64_t pixel) {
-  return mix64(mix64(stream + 0x13198a2e03707344ULL) ^ pixel);
-}
-
-/// The Owen scramble seed of a pixel's lens samples (a thin-lens camera).
-inline uint64_t lensPatternSeed(uint64_t stream, uint64_t pixel) {
-  return mix64(mix64(stream + 0x452821e638d01377ULL) ^ pixel);
-}
-
-/// The Owen scramble seed of a pixel's times in the shutter (motion blur).
-inline uint64_t timePatternSeed(uint64_t stream, uint64_t pixel) {
-  return mix64(mix64(stream + 0xbe5466cf34e90c6cULL) ^ pixel);
-}
+/// A frame's halves of its pixels' seeds: a pixel's is mix64 of the
+/// frame's half and its index, so the tile loop takes one mix64 per pixel
+/// and seed, the frame's half made once.
+struct FrameSeeds {
+  explicit FrameSeeds(uint64_t stream)
+      : key(Sampler::frameKey(stream)), pattern(mix64(stream + 0x13198a2e03707344ULL)),
+        lens(mix64(stream + 0x452821e638d01377ULL)), time(mix64(stream + 0xbe5466cf34e90c6cULL)),
+        stratum(mix64(stream ^ 0x243f6a8885a308d3ULL)) {}
+  uint64_t key;     ///< the Sampler's key (Sampler::pixelKeyOf)
+  uint64_t pattern; ///< the Owen scramble seed of the progressive sample positions
+  uint64_t lens;    ///< the Owen scramble seed of lens samples (a thin-lens camera)
+  uint64_t time;    ///< the Owen scramble seed of times in the shutter (motion blur)
+  /// The random offset of a pixel's light strata (Integrator, lightShares),
+  /// its top 32 bits: the same for all its samples, so consecutive samples
+  /// take consecutive shares.
+  uint64_t stratum;
+};
 
 /// The camera ray of sample s of a pixel through image position (px, py)
 /// with its lens point and its time in the shutter: the pixel's sample s
-/// in dimensions of their own (scrambled by the pixel's lensPatternSeed and
-/// timePatternSeed), stratified over the pixel's samples like the
+/// in dimensions of their own (scrambled by the pixel's lens and time
+/// seeds, FrameSeeds), stratified over the pixel's samples like the
 /// positions. The time goes to the sample's `sampler` too (moving
 /// lights). A call of its own: the pinhole, unblurred loop stays small.
 [[gnu::noinline]] inline Ray lensOrTimedRay(const CameraRays &camera, uint64_t lensPattern,
@@ -146,7 +140,7 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 /// end, summing their colours into work.sums (and their squares into
 /// work.squares). Sample s of a pixel goes through its centre (`centres`)
 /// or through the pixel's Owen-scrambled Sobol point s (its scramble from
-/// pixelPatternSeed), eight pixels' at a time (owenSobol2DLanes). The (pixel,
+/// FrameSeeds::pattern), eight pixels' at a time (owenSobol2DLanes). The (pixel,
 /// sample) pairs go to the backend in batches of up to kTilePixels camera
 /// rays, by sample index and then pixel: the whole tile at one index when
 /// every pixel samples, else the few pixels still sampling at several
@@ -161,6 +155,10 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   const size_t count = rect.pixels();
   uint32_t begin = end;
   size_t sampling = 0; // work.pixelList[0, sampling): the pixels with samples to take
+  const tile_detail::FrameSeeds seeds(settings.stream());
+  // The positions' scramble seed: for Sobol positions and the path
+  // tracer's stratified choices, not for a pass of pixel centres.
+  const bool usesPattern = !centres || settings.integrator == IntegratorKind::Path;
   for (size_t i = 0; i < count; ++i) {
     work.sums[i] = Color();
     work.squares[i] = Color();
@@ -171,8 +169,8 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       work.x[i] = rect.x(i);
       work.y[i] = rect.y(i);
       const uint64_t pixel = static_cast<uint64_t>(work.y[i]) * settings.width + work.x[i];
-      work.samplerKey[i] = Sampler::pixelKey(settings.stream(), pixel);
-      work.pattern[i] = tile_detail::pixelPatternSeed(settings.stream(), pixel);
+      work.samplerKey[i] = Sampler::pixelKeyOf(seeds.key, pixel);
+      if (usesPattern) work.pattern[i] = mix64(seeds.pattern ^ pixel);
       if (!centres) {
         const OwenScramble scramble = owenScramble(work.pattern[i]);
         work.shuffle[i] = scramble.shuffle;
@@ -180,11 +178,11 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
         work.sy[i] = scramble.sy;
       }
       if (camera.hasLens())
-        work.lensPattern[i] = tile_detail::lensPatternSeed(settings.stream(), pixel);
+        work.lensPattern[i] = mix64(seeds.lens ^ pixel);
       if (camera.timed())
-        work.timePattern[i] = tile_detail::timePatternSeed(settings.stream(), pixel);
+        work.timePattern[i] = mix64(seeds.time ^ pixel);
       if (spreadLight)
-        work.stratumOffset[i] = tile_detail::lightStratumOffset(settings.stream(), pixel);
+        work.stratumOffset[i] = static_cast<uint32_t>(mix64(seeds.stratum ^ pixel) >> 32);
     }
   }
   size_t rays = 0;

@@ -92,9 +92,11 @@ public:
   }
   uint32_t count(size_t i) const { return count_[i]; }
   bool active(size_t i) const {
-    if (!wholeRegionActive_) return active_[i] != 0;
-    return inRegion(static_cast<int>(i % static_cast<size_t>(width_)),
-                    static_cast<int>(i / static_cast<size_t>(width_)));
+    return active(static_cast<int>(i % static_cast<size_t>(width_)),
+                  static_cast<int>(i / static_cast<size_t>(width_)));
+  }
+  bool active(int x, int y) const {
+    return wholeRegionActive_ ? inRegion(x, y) : active_[index(x, y)] != 0;
   }
   /// Whether any pixel of the rectangle [x0,x1) x [y0,y1) is active.
   bool anyActive(int x0, int y0, int x1, int y1) const;

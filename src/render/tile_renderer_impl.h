@@ -38,9 +38,13 @@ struct TileRect {
         y1(std::min(y0 + kTileSize, height)) {}
   int width() const { return x1 - x0; }
   size_t pixels() const { return static_cast<size_t>(x1 - x0) * (y1 - y0); }
-  /// Image coordinates of the tile's pixel i (row by row).
-  int x(size_t i) const { return x0 + static_cast<int>(i) % width(); }
-  int y(size_t i) const { return y0 + static_cast<int>(i) / width(); }
+  /// Calls f(i, x, y) for each of the tile's pixels i (row by row) with its
+  /// image coordinates (x, y).
+  template <class F> void forEachPixel(F &&f) const {
+    size_t i = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) f(i++, x, y);
+  }
 };
 
 /// A frame's halves of its pixels' seeds: a pixel's is mix64 of the
@@ -152,23 +156,22 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
                 bool spreadLight, bool pairedStrata, bool centres,
                 tile_detail::TileWork<Integ> &work, RayCounts &counts) {
-  const size_t count = rect.pixels();
   uint32_t begin = end;
   size_t sampling = 0; // work.pixelList[0, sampling): the pixels with samples to take
   const tile_detail::FrameSeeds seeds(settings.stream());
   // The positions' scramble seed: for Sobol positions and the path
   // tracer's stratified choices, not for a pass of pixel centres.
   const bool usesPattern = !centres || settings.integrator == IntegratorKind::Path;
-  for (size_t i = 0; i < count; ++i) {
+  rect.forEachPixel([&](size_t i, int x, int y) {
     work.sums[i] = Color();
     work.squares[i] = Color();
     work.taken[i] = 0;
     if (work.first[i] < end) {
       work.pixelList[sampling++] = static_cast<uint16_t>(i);
       begin = std::min(begin, work.first[i]);
-      work.x[i] = rect.x(i);
-      work.y[i] = rect.y(i);
-      const uint64_t pixel = static_cast<uint64_t>(work.y[i]) * settings.width + work.x[i];
+      work.x[i] = x;
+      work.y[i] = y;
+      const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
       work.samplerKey[i] = Sampler::pixelKeyOf(seeds.key, pixel);
       if (usesPattern) work.pattern[i] = mix64(seeds.pattern ^ pixel);
       if (!centres) {
@@ -184,7 +187,7 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       if (spreadLight)
         work.stratumOffset[i] = static_cast<uint32_t>(mix64(seeds.stratum ^ pixel) >> 32);
     }
-  }
+  });
   size_t rays = 0;
   auto trace = [&] {
     accel.intersectCoherent(work.rays.data(), rays, work.hits.data(), work.found.data());
@@ -380,10 +383,11 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           std::fill_n(work.first.begin(), count, 0u);
           sampleTile(accel, integrator, camera, settings, rect, total, spread, false, n == 1, work,
                      local);
-          for (size_t i = 0; i < count; ++i)
-            film.setSamples(rect.x(i), rect.y(i), work.sums[i] * invSamples,
+          rect.forEachPixel([&](size_t i, int x, int y) {
+            film.setSamples(x, y, work.sums[i] * invSamples,
                             varianceOfMean(work.sums[i], work.squares[i], total), total,
                             sampleSet);
+          });
           return true;
         });
     perThread.combine_each([&](const RayCounts &c) { counts += c; });
@@ -451,25 +455,28 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
               return false;
             }
           }
-          const size_t count = rect.pixels();
           if (centreFirst && pass == 0) {
-            for (size_t i = 0; i < count; ++i)
-              work.first[i] = buffer.active(buffer.index(rect.x(i), rect.y(i))) ? 0 : 1;
+            rect.forEachPixel([&](size_t i, int x, int y) {
+              work.first[i] = buffer.active(x, y) ? 0 : 1;
+            });
             sampleTile(accel, centreIntegrator, camera, settings, rect, 1, false, false, true,
                        work, local);
-            for (size_t i = 0; i < count; ++i)
-              if (work.taken[i]) buffer.setCentre(buffer.index(rect.x(i), rect.y(i)), work.sums[i]);
+            rect.forEachPixel([&](size_t i, int x, int y) {
+              if (work.taken[i]) buffer.setCentre(buffer.index(x, y), work.sums[i]);
+            });
           } else {
-            for (size_t i = 0; i < count; ++i) {
-              const size_t p = buffer.index(rect.x(i), rect.y(i));
-              work.first[i] = !buffer.active(p) ? target : buffer.restart(p) ? 0 : buffer.count(p);
-            }
+            rect.forEachPixel([&](size_t i, int x, int y) {
+              const size_t p = buffer.index(x, y);
+              work.first[i] = !buffer.active(x, y) ? target
+                              : buffer.restart(p)  ? 0
+                                                   : buffer.count(p);
+            });
             sampleTile(accel, integrator, camera, settings, rect, target, spread, pairedStrata,
                        false, work, local);
-            for (size_t i = 0; i < count; ++i)
+            rect.forEachPixel([&](size_t i, int x, int y) {
               if (work.taken[i])
-                buffer.add(buffer.index(rect.x(i), rect.y(i)), work.sums[i], work.squares[i],
-                           work.taken[i]);
+                buffer.add(buffer.index(x, y), work.sums[i], work.squares[i], work.taken[i]);
+            });
           }
           return true;
         });

@@ -291,29 +291,43 @@ void SampleBuffer::moveTo(Film &film) && {
 }
 
 void summarizeSampling(Film &film) {
-  double errorSum = 0, errorMax = 0;
-  size_t withError = 0;
-  uint64_t samples = 0;
-  uint32_t most = 0;
-  for (int y = 0; y < film.height(); ++y) {
+  // Row by row in parallel, then the rows' figures summed in order: the
+  // same report whatever the threads.
+  struct Row {
+    double errorSum = 0, errorMax = 0;
+    size_t withError = 0;
+    uint64_t samples = 0;
+    uint32_t most = 0;
+  };
+  std::vector<Row> rows(static_cast<size_t>(film.height()));
+  tbb::parallel_for(0, film.height(), [&](int y) {
+    Row &row = rows[static_cast<size_t>(y)];
     for (int x = 0; x < film.width(); ++x) {
       const uint32_t n = film.sampleCount(x, y);
-      samples += n;
-      most = std::max(most, n);
+      row.samples += n;
+      row.most = std::max(row.most, n);
       if (n >= 2) {
         const double e = film.error(x, y);
-        errorSum += e;
-        errorMax = std::max(errorMax, e);
-        ++withError;
+        row.errorSum += e;
+        row.errorMax = std::max(row.errorMax, e);
+        ++row.withError;
       }
     }
+  });
+  Row all;
+  for (const Row &row : rows) {
+    all.errorSum += row.errorSum;
+    all.errorMax = std::max(all.errorMax, row.errorMax);
+    all.withError += row.withError;
+    all.samples += row.samples;
+    all.most = std::max(all.most, row.most);
   }
   SamplingReport &r = film.report;
-  r.samples = samples;
-  r.maxPixelSamples = most;
-  r.hasError = withError > 0;
-  r.meanError = withError ? errorSum / static_cast<double>(withError) : 0;
-  r.maxError = errorMax;
+  r.samples = all.samples;
+  r.maxPixelSamples = all.most;
+  r.hasError = all.withError > 0;
+  r.meanError = all.withError ? all.errorSum / static_cast<double>(all.withError) : 0;
+  r.maxError = all.errorMax;
 }
 
 } // namespace lray

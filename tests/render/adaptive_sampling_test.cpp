@@ -571,8 +571,8 @@ TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
     }
   auto check = [&](const std::vector<Color> &colours, double threshold, bool cropped) {
     // A region short of the frame's borders, as for a cropped render.
-    SampleBuffer buffer =
-        cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2) : SampleBuffer(w, h);
+    SampleBuffer buffer = cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2)
+                                  : SampleBuffer(w, h);
     std::vector<uint32_t> active;
     for (size_t i = 0; i < colours.size(); ++i)
       if (buffer.active(i)) {

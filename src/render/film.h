@@ -60,7 +60,12 @@ public:
                   SampleSet samples) {
     set(x, y, mean);
     setSampleCount(x, y, count);
-    if (count < 2) return;
+    if (count >= 2) setEstimate(x, y, mean, variance, count, samples);
+  }
+  /// The error estimate and variance setSamples writes for a pixel of two
+  /// samples or more.
+  void setEstimate(int x, int y, const Color &mean, const Color &variance, uint32_t count,
+                   SampleSet samples) {
     setError(x, y, static_cast<float>(pixelError(mean, variance, count, samples)));
     setVariance(x, y, variance);
   }

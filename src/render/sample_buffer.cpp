@@ -277,9 +277,8 @@ void SampleBuffer::moveTo(Film &film) && {
       const size_t i = index(x, y);
       const uint32_t n = count_[i];
       if (n < 2) continue;
-      const Color m = mean(i), v = variance(i);
-      film.setError(x, y, static_cast<float>(pixelError(m, v, n, samples_)));
-      film.setVariance(x, y, v);
+      const Color m = mean(i);
+      film.setEstimate(x, y, m, variance(i), n, samples_);
       float *sum = &sums_[i * 3];
       sum[0] = static_cast<float>(m.r);
       sum[1] = static_cast<float>(m.g);

@@ -131,22 +131,20 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
       const size_t i = index(x, y);
       if (!count_[i]) continue;
       const bool right = x + 1 < width_, down = y + 1 < height_;
-      if ((!right || same(i, i + 1)) &&
-          (!down || ((x == 0 || same(i, i + w - 1)) && same(i, i + w) &&
-                     (!right || same(i, i + w + 1)))))
-        continue; // the pixel's four pairs show no edge (most of a frame)
+      // The pixel's pairs (CentrePair order) without an edge: no neighbour
+      // there, or one of the same colour. Most of a frame has only those.
+      const size_t neighbour[4] = {i + 1, i + w - 1, i + w, i + w + 1};
+      const bool plain[4] = {!right || same(i, neighbour[kRight]),
+                             !down || x == 0 || same(i, neighbour[kDownLeft]),
+                             !down || same(i, neighbour[kDown]),
+                             !down || !right || same(i, neighbour[kDownRight])};
+      if (plain[kRight] && plain[kDownLeft] && plain[kDown] && plain[kDownRight]) continue;
       const Color c = mean(i);
       uint8_t bits = 0;
-      auto pair = [&](int nx, int ny, CentrePair k) {
-        const size_t j = index(nx, ny);
-        if (!count_[j] || same(i, j)) return;
+      for (const CentrePair k : {kRight, kDownLeft, kDown, kDownRight}) {
+        const size_t j = neighbour[k];
+        if (plain[k] || !count_[j]) continue;
         bits |= pairVerdicts(c, mean(j), threshold, signedColours) << (2 * k);
-      };
-      if (right) pair(x + 1, y, kRight);
-      if (down) {
-        if (x > 0) pair(x - 1, y + 1, kDownLeft);
-        pair(x, y + 1, kDown);
-        if (right) pair(x + 1, y + 1, kDownRight);
       }
       pairs[i] = bits;
     }

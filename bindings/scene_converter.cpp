@@ -2,6 +2,7 @@
 #include "bindings/scene_converter.h"
 
 #include "geometry/csg_tree.h"
+#include "shading/pigment.h"
 
 #include <memory>
 
@@ -135,11 +136,10 @@ private:
   }
 
   /// Gives `e` texture `t`, and says whether that texture may read the
-  /// surface's (u, v): a plain colour reads nothing of the hit.
+  /// surface's (u, v): a plain colour or a 3-D map reads nothing of them.
   void setTexture(Entity &e, uint32_t t) const {
     e.texture = t;
-    e.readsUv =
-        !std::holds_alternative<ColorPigment>(out_.pigments[out_.textures[t].pigment].pattern);
+    e.readsUv = pigmentReadsUv(out_.pigments, out_.textures[t].pigment);
   }
 
   /// Emission needs a finite area to come from (lua/README.md, Finish).

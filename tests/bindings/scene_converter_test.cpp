@@ -265,21 +265,33 @@ TEST_F(SceneConverterTest, PigmentsNestedTooDeepAreAnErrorNotAStackOverflow) {
   EXPECT_EQ(convertGlobal("t").pigments.size(), 64u + 2u);
 }
 
-TEST_F(SceneConverterTest, OnlyEntitiesOfAPlainColourSkipTheirUv) {
-  ASSERT_EQ(runLua("s = Scene()\n"
+TEST_F(SceneConverterTest, OnlyEntitiesWhosePigmentsReadUvGetThem) {
+  ASSERT_EQ(runLua("uv = CheckerPigment2D() { pigment1 = ColorPigment(red) }\n"
+                   "function with(p) return Texture() { pigment = p } end\n"
+                   "s = Scene()\n"
                    "s:add_entity(Sphere())\n"
-                   "s:add_entity(Sphere() { texture = Texture() { pigment = ColorPigment(red) } })\n"
-                   "s:add_entity(Torus() { texture = Texture() {\n"
-                   "  pigment = CheckerPigment2D() { pigment1 = ColorPigment(red) } } })\n"
-                   "s:add_entity(Cone() { texture = Texture() {\n"
-                   "  pigment = CheckerPigment3D() { pigment1 = ColorPigment(red) } } })"),
+                   "s:add_entity(Sphere() { texture = with(ColorPigment(red)) })\n"
+                   "s:add_entity(Torus() { texture = with(uv) })\n"
+                   "s:add_entity(Cone() { texture = with(\n"
+                   "  CheckerPigment3D() { pigment1 = ColorPigment(red) }) })\n"
+                   "s:add_entity(Cone() { texture = with(CheckerPigment2D() {\n"
+                   "  pigment1 = ColorPigment(red), texture_map = UVMap() }) })\n"
+                   "s:add_entity(Sphere() { texture = with(CheckerPigment3D() {\n"
+                   "  pigment2 = uv, texture_map = LinearMap() }) })\n"
+                   "s:add_entity(Sphere() { texture = with(MarblePigment3D()) })\n"
+                   "s:add_entity(Sphere() { texture = with(CheckerPigment2D() {\n"
+                   "  pigment1 = ColorPigment(red), texture_map = SphericalMap() }) })"),
             "");
   Scene scene = convertGlobal("s");
-  ASSERT_EQ(scene.entities.size(), 4u);
+  ASSERT_EQ(scene.entities.size(), 8u);
   EXPECT_FALSE(scene.entities[0].readsUv); // the default texture: white
   EXPECT_FALSE(scene.entities[1].readsUv);
-  EXPECT_TRUE(scene.entities[2].readsUv);
-  EXPECT_TRUE(scene.entities[3].readsUv); // any pattern may be given a (u, v) map
+  EXPECT_TRUE(scene.entities[2].readsUv);  // a 2-D pattern's default map is the (u, v)
+  EXPECT_FALSE(scene.entities[3].readsUv); // a 3-D one's is the object-space point
+  EXPECT_TRUE(scene.entities[4].readsUv);
+  EXPECT_TRUE(scene.entities[5].readsUv);  // a sub-pigment reads them
+  EXPECT_FALSE(scene.entities[6].readsUv);
+  EXPECT_FALSE(scene.entities[7].readsUv); // the map's own angles from the point
 }
 
 TEST_F(SceneConverterTest, ACsgLeafReadsTheUvOfTheTextureItInherits) {

@@ -27,6 +27,8 @@ struct TextureMap {
   SourceLocation loc; ///< where the map was made (none for a default map)
 
   bool is3D() const { return kind == Kind::TextureMap3D || kind == Kind::LinearMap; }
+  /// Whether the map reads the hit's (u, v): the others read its object-space point alone.
+  bool readsUv() const { return kind == Kind::TextureMap2D || kind == Kind::UVMap; }
 };
 
 /// A 2-D pigment lookup coordinate (unitless; a texture repeats every 1).

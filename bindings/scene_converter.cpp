@@ -2,7 +2,7 @@
 #include "bindings/scene_converter.h"
 
 #include "geometry/csg_tree.h"
-#include "shading/pigment.h"
+#include "scene/pigment_uv.h"
 
 #include <memory>
 

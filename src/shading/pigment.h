@@ -5,15 +5,3 @@
 
 #include "scene/scene.h"
 #include "shading/pigments/pigment_context.h"
-
-#include <cstdint>
-#include <vector>
-
-namespace lray {
-
-/// Whether pigment `index` of `pigments` may read a hit's (u, v): a pattern
-/// with a (u, v) map, or a checker with such a sub-pigment. The analytic
-/// shapes leave (u, v) out of hits of other textures (Entity::readsUv).
-bool pigmentReadsUv(const std::vector<Pigment> &pigments, uint32_t index);
-
-} // namespace lray

@@ -215,6 +215,14 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
   // centre-first pass, one per pixel of the frame), so they and then the
   // dilation are taken pixel by pixel, by rows in parallel, into flags for
   // the frame; the list of active pixels is read off the flags after.
+  // After the centre-first pass a pixel joins its noisy neighbours only
+  // where most of them are: a straight edge across a pixel always puts its
+  // centre and one of its neighbours' on opposite sides (a half-plane that
+  // meets the pixel holds a corner of the square of its neighbours'
+  // centres), so its own verdict catches the edge, and the pixels along
+  // an edge need no ring around them. Where most neighbours differ, the
+  // detail is finer than the centres (distant checkers, a fine texture),
+  // and a centre that matches its neighbours says little.
   const size_t pixels = count_.size();
   const PixelWindow r = region_;
   bool centres = false;
@@ -231,18 +239,24 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
     }
   });
   tbb::parallel_for(r.y0, r.y1, [&](int y) {
-    // The 3 x 3 block around each pixel, clipped to the frame (a row or
-    // column past it is read as the one at the edge again).
-    const uint8_t *up = &noisy[index(0, std::max(0, y - 1))];
+    const uint8_t *up = y > 0 ? &noisy[index(0, y - 1)] : nullptr;
     const uint8_t *row = &noisy[index(0, y)];
-    const uint8_t *down = &noisy[index(0, std::min(height_ - 1, y + 1))];
+    const uint8_t *down = y + 1 < height_ ? &noisy[index(0, y + 1)] : nullptr;
     const uint32_t *count = &count_[index(0, y)];
     uint8_t *active = &active_[index(0, y)];
     for (int x = r.x0; x < r.x1; ++x) {
-      const int left = std::max(0, x - 1), right = std::min(width_ - 1, x + 1);
-      const int near = up[left] | up[x] | up[right] | row[left] | row[x] | row[right] |
-                       down[left] | down[x] | down[right];
-      active[x] = near != 0 && count[x] < maxSamples;
+      // The neighbours within the frame, and how many of them are noisy.
+      int neighbours = 0, noisyNeighbours = 0;
+      for (const uint8_t *line : {up, row, down}) {
+        if (!line) continue;
+        for (int nx = std::max(0, x - 1); nx <= std::min(width_ - 1, x + 1); ++nx) {
+          if (line == row && nx == x) continue;
+          ++neighbours;
+          noisyNeighbours += line[nx];
+        }
+      }
+      active[x] = count[x] < maxSamples &&
+                  (row[x] || (centres ? 2 * noisyNeighbours > neighbours : noisyNeighbours > 0));
     }
   });
   wholeRegionActive_ = false;

@@ -112,9 +112,10 @@ public:
 
   /// After a pass that brought every active pixel to `target` samples:
   /// a pixel stays active for the next pass if it or one of its eight
-  /// neighbours has not converged (error >= threshold, or centreContrast
-  /// for a pixel with only its centre sample; never with threshold 0),
-  /// unless it already has `maxSamples`. Only active pixels are judged:
+  /// neighbours has not converged (error >= threshold; never with
+  /// threshold 0), unless it already has `maxSamples`. After the
+  /// centre-first pass: if its centreContrast is threshold or more, or
+  /// that of most of its neighbours (judgeRegion). Only active pixels are judged:
   /// an inactive one was not noisy when it stopped and has not changed
   /// since (a centre-only pixel is judged once, after the centre pass, not
   /// again as its neighbours refine; the crop margin counts on that).

@@ -402,8 +402,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // --min-samples 1 starts with the centre-first pass: one sample through
   // each pixel centre (every light cell), the best single sample (as
   // POV-Ray's, and fixed sampling's at 1 x 1); a pixel stops there unless
-  // it differs from a neighbour (SampleBuffer::centreContrast), which is
-  // where edges and texture detail are. The others drop their centre
+  // it differs from a neighbour (SampleBuffer::centreContrast) or most of
+  // its neighbours do, which is where edges and texture detail are. The others drop their centre
   // sample and go on with Sobol passes from 4.
   const bool centreFirst = minSamples == 1;
   const uint32_t firstSobol = firstSobolPass(minSamples, maxSamples);
@@ -416,7 +416,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
   // pixels beyond the margin change states one pixel further in per pass
-  // (two in the centre-first pass's: its contrast, then the dilation).
+  // (two in the centre-first pass's: its contrast, then its neighbours').
   // With a margin of the passes plus a tile, no tile holding window pixels
   // ever sees a changed state: its ray batches, and so its pixels, are
   // exactly those of the whole frame. The region is whole tiles.

@@ -176,7 +176,7 @@ TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
   const double threshold = 0.03;
   const Film film = render(scene, *accel, adaptiveSettings(threshold, 1, 128));
   const Film centres = render(scene, *accel, fixedSettings(1, LightSampling::All));
-  int atCentre = 0;
+  int atCentre = 0, besideAnEdge = 0;
   SampleBuffer contrast(kWidth, kHeight);
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) contrast.setCentre(contrast.index(x, y), centres.get(x, y));
@@ -189,15 +189,19 @@ TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
       ++atCentre;
       // Exactly the 1 x 1 render's pixel (every light cell), ...
       ASSERT_EQ(film.get(x, y), centres.get(x, y)) << x << "," << y;
-      // ... and neither it nor a neighbour differed from its neighbours
-      // by the threshold.
+      // ... and it did not differ from its neighbours by the threshold,
+      // nor did most of them from theirs.
+      EXPECT_LT(contrast.centreContrast(contrast.index(x, y)), threshold) << x << "," << y;
+      int neighbours = 0, edges = 0;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
-          EXPECT_LT(contrast.centreContrast(contrast.index(nx, ny)), threshold)
-              << nx << "," << ny << " next to " << x << "," << y;
+          if ((!dx && !dy) || nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
+          ++neighbours;
+          edges += contrast.centreContrast(contrast.index(nx, ny)) >= threshold;
         }
+      EXPECT_LE(2 * edges, neighbours) << x << "," << y;
+      besideAnEdge += edges > 0;
     }
   }
   // The flat floor and background stop at their centres (a fifth of this
@@ -205,6 +209,9 @@ TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
   // first pass of 4 at the same threshold.
   EXPECT_GT(atCentre, kWidth * kHeight / 5);
   EXPECT_LT(atCentre, kWidth * kHeight);
+  // Pixels along an edge take samples; those beside them, whose centres
+  // match all their neighbours', do not (SampleBuffer::updateActive).
+  EXPECT_GT(besideAnEdge, 0);
   EXPECT_LT(film.report.samples,
             render(scene, *accel, adaptiveSettings(threshold, 4, 128)).report.samples);
 }
@@ -526,6 +533,37 @@ TEST(SampleBuffer, AnUnconvergedPixelKeepsItsEightNeighboursActive) {
   EXPECT_EQ(buffer.updateActive(0.01, 4), 0u);
 }
 
+// After the centre-first pass a pixel joins its neighbours' verdicts only
+// where most of them differ: a straight edge keeps the two columns either
+// side of it, not a third; a block of centres finer than its surroundings
+// takes its middle pixel, whose centre matches all of its neighbours'.
+TEST(SampleBuffer, ACentreJoinsItsNeighboursOnlyWhereMostDiffer) {
+  auto activeAfterCentres = [](int w, int h, auto colourAt) {
+    SampleBuffer buffer(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) buffer.setCentre(buffer.index(x, y), colourAt(x, y));
+    buffer.updateActive(0.1, 100);
+    std::vector<bool> active;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) active.push_back(buffer.active(x, y));
+    return active;
+  };
+  const Color dark(0.1, 0.1, 0.1), light(0.9, 0.9, 0.9);
+  // An edge between columns 2 and 3 of a 6 x 4 frame.
+  std::vector<bool> edge =
+      activeAfterCentres(6, 4, [&](int x, int) { return x < 3 ? dark : light; });
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x)
+      EXPECT_EQ(edge[size_t(y * 6 + x)], x == 2 || x == 3) << x << "," << y;
+  // A dark 3 x 3 block inside a light 5 x 5 frame: the block's ring and
+  // the frame's border differ; the middle (2, 2) only from nothing.
+  std::vector<bool> block = activeAfterCentres(5, 5, [&](int x, int y) {
+    return x >= 1 && x <= 3 && y >= 1 && y <= 3 ? dark : light;
+  });
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) EXPECT_TRUE(block[size_t(y * 5 + x)]) << x << "," << y;
+}
+
 TEST(SampleBuffer, CentreContrastIsTheLargestAgainstANeighbour) {
   // A 3 x 3 frame of centre samples: the middle pixel is grey, its
   // neighbours black but for one white and one mid-grey one.
@@ -588,11 +626,16 @@ TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const size_t i = buffer.index(x, y);
-        bool expected = false;
+        // Its own verdict, or those of most of its neighbours.
+        int neighbours = 0, noisyNeighbours = 0;
         for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
-          for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx)
-            expected |= noisy[buffer.index(nx, ny)] != 0;
-        expected &= reference.active(i);
+          for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx) {
+            if (nx == x && ny == y) continue;
+            ++neighbours;
+            noisyNeighbours += noisy[buffer.index(nx, ny)];
+          }
+        const bool expected =
+            reference.active(i) && (noisy[i] || 2 * noisyNeighbours > neighbours);
         edges += noisy[i];
         EXPECT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
       }

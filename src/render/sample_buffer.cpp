@@ -238,14 +238,18 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
       noisy[i] = isNoisy(i, threshold, maxSamples, noisy[i] != 0);
     }
   });
+  // A pixel joins with more noisy neighbours than this: most of its eight
+  // after the centre pass (at the frame's border, most of those it has),
+  // any one after Sobol samples.
+  const int quietNeighbours = centres ? 4 : 0;
   tbb::parallel_for(r.y0, r.y1, [&](int y) {
-    const uint8_t *up = y > 0 ? &noisy[index(0, y - 1)] : nullptr;
     const uint8_t *row = &noisy[index(0, y)];
-    const uint8_t *down = y + 1 < height_ ? &noisy[index(0, y + 1)] : nullptr;
+    const uint8_t *up = y > 0 ? row - width_ : nullptr;
+    const uint8_t *down = y + 1 < height_ ? row + width_ : nullptr;
     const uint32_t *count = &count_[index(0, y)];
     uint8_t *active = &active_[index(0, y)];
-    for (int x = r.x0; x < r.x1; ++x) {
-      // The neighbours within the frame, and how many of them are noisy.
+    // A pixel at the frame's border: the neighbours it has.
+    auto judgeBorder = [&](int x) {
       int neighbours = 0, noisyNeighbours = 0;
       for (const uint8_t *line : {up, row, down}) {
         if (!line) continue;
@@ -255,9 +259,21 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
           noisyNeighbours += line[nx];
         }
       }
-      active[x] = count[x] < maxSamples &&
-                  (row[x] || (centres ? 2 * noisyNeighbours > neighbours : noisyNeighbours > 0));
+      const bool joins = centres ? 2 * noisyNeighbours > neighbours : noisyNeighbours > 0;
+      active[x] = count[x] < maxSamples && (row[x] || joins);
+    };
+    int x = r.x0;
+    if (!up || !down) {
+      for (; x < r.x1; ++x) judgeBorder(x);
+      return;
     }
+    if (x == 0) judgeBorder(x++);
+    for (const int inner = std::min(r.x1, width_ - 1); x < inner; ++x) {
+      const int noisyNeighbours = up[x - 1] + up[x] + up[x + 1] + row[x - 1] + row[x + 1] +
+                                  down[x - 1] + down[x] + down[x + 1];
+      active[x] = (count[x] < maxSamples) & ((row[x] != 0) | (noisyNeighbours > quietNeighbours));
+    }
+    for (; x < r.x1; ++x) judgeBorder(x);
   });
   wholeRegionActive_ = false;
   for (int y = r.y0; y < r.y1; ++y)

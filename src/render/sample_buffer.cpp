@@ -210,37 +210,21 @@ bool SampleBuffer::isNoisy(size_t i, double threshold, uint32_t maxSamples, bool
   return centreOnly_[i] ? edge : error(i) >= threshold;
 }
 
-size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
-  // The first verdicts are on every pixel of the region (after the
-  // centre-first pass, one per pixel of the frame), so they and then the
-  // dilation are taken pixel by pixel, by rows in parallel, into flags for
-  // the frame; the list of active pixels is read off the flags after.
-  // After the centre-first pass a pixel joins its noisy neighbours only
-  // where most of them are: a straight edge across a pixel always puts its
-  // centre and one of its neighbours' on opposite sides (a half-plane that
-  // meets the pixel holds a corner of the square of its neighbours'
-  // centres), so its own verdict catches the edge, and the pixels along
-  // an edge need no ring around them. Where most neighbours differ, the
-  // detail is finer than the centres (distant checkers, a fine texture),
-  // and a centre that matches its neighbours says little.
-  const size_t pixels = count_.size();
+void SampleBuffer::setActiveAround(const std::vector<uint8_t> &noisy, bool centres,
+                                   uint32_t maxSamples) {
+  // After Sobol samples any noisy neighbour keeps a pixel sampling (its
+  // own samples may all have fallen on one side of an edge). After the
+  // centre-first pass a pixel joins only where most of its neighbours are
+  // noisy (at the frame's border, most of those it has): a straight edge
+  // across a pixel always puts its centre and one of its neighbours' on
+  // opposite sides (a half-plane that meets the pixel holds a corner of
+  // the square of its neighbours' centres), so its own verdict catches
+  // the edge, and the pixels along an edge need no ring around them.
+  // Where most neighbours differ, the detail is finer than the centres
+  // (distant checkers, a fine texture), and a centre that matches its
+  // neighbours says little.
   const PixelWindow r = region_;
-  bool centres = false;
-  for (int y = r.y0; y < r.y1 && threshold > 0 && !centres; ++y) {
-    const uint8_t *row = centreOnly_.data() + index(r.x0, y);
-    centres = std::any_of(row, row + (r.x1 - r.x0), [](uint8_t c) { return c != 0; });
-  }
-  std::vector<uint8_t> noisy = centres ? centreEdges(threshold) : std::vector<uint8_t>(pixels);
-  tbb::parallel_for(r.y0, r.y1, [&](int y) {
-    setFlushToZero();
-    for (int x = r.x0; x < r.x1; ++x) {
-      const size_t i = index(x, y);
-      noisy[i] = isNoisy(i, threshold, maxSamples, noisy[i] != 0);
-    }
-  });
-  // A pixel joins with more noisy neighbours than this: most of its eight
-  // after the centre pass (at the frame's border, most of those it has),
-  // any one after Sobol samples.
+  // A pixel joins with more noisy neighbours than this, of eight.
   const int quietNeighbours = centres ? 4 : 0;
   tbb::parallel_for(r.y0, r.y1, [&](int y) {
     const uint8_t *row = &noisy[index(0, y)];
@@ -275,6 +259,30 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
     }
     for (; x < r.x1; ++x) judgeBorder(x);
   });
+}
+
+size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
+  // The first verdicts are on every pixel of the region (after the
+  // centre-first pass, one per pixel of the frame), so they and then their
+  // neighbours' (setActiveAround) are taken pixel by pixel, by rows in
+  // parallel, into flags for the frame; the list of active pixels is read
+  // off the flags after.
+  const size_t pixels = count_.size();
+  const PixelWindow r = region_;
+  bool centres = false;
+  for (int y = r.y0; y < r.y1 && threshold > 0 && !centres; ++y) {
+    const uint8_t *row = centreOnly_.data() + index(r.x0, y);
+    centres = std::any_of(row, row + (r.x1 - r.x0), [](uint8_t c) { return c != 0; });
+  }
+  std::vector<uint8_t> noisy = centres ? centreEdges(threshold) : std::vector<uint8_t>(pixels);
+  tbb::parallel_for(r.y0, r.y1, [&](int y) {
+    setFlushToZero();
+    for (int x = r.x0; x < r.x1; ++x) {
+      const size_t i = index(x, y);
+      noisy[i] = isNoisy(i, threshold, maxSamples, noisy[i] != 0);
+    }
+  });
+  setActiveAround(noisy, centres, maxSamples);
   wholeRegionActive_ = false;
   for (int y = r.y0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x)

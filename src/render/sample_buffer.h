@@ -142,6 +142,10 @@ private:
   bool isNoisy(size_t i, double threshold, uint32_t maxSamples, bool edge) const;
   /// updateActive's first verdicts, on every pixel of the region.
   size_t judgeRegion(double threshold, uint32_t maxSamples);
+  /// Sets each pixel of the region active (below maxSamples) where it is
+  /// `noisy` (per pixel of the frame, 0 or 1) or where its neighbours are:
+  /// after the centre-first pass (`centres`) most of them, else any one.
+  void setActiveAround(const std::vector<uint8_t> &noisy, bool centres, uint32_t maxSamples);
   bool inRegion(int x, int y) const {
     return x >= region_.x0 && x < region_.x1 && y >= region_.y0 && y < region_.y1;
   }

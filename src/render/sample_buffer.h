@@ -115,10 +115,11 @@ public:
   /// neighbours has not converged (error >= threshold; never with
   /// threshold 0), unless it already has `maxSamples`. After the
   /// centre-first pass: if its centreContrast is threshold or more, or
-  /// that of most of its neighbours (judgeRegion). Only active pixels are judged:
-  /// an inactive one was not noisy when it stopped and has not changed
-  /// since (a centre-only pixel is judged once, after the centre pass, not
-  /// again as its neighbours refine; the crop margin counts on that).
+  /// that of most of its neighbours (setActiveAround). Only active pixels
+  /// are judged: an inactive one was not noisy when it stopped and has not
+  /// changed since (a centre-only pixel is judged once, after the centre
+  /// pass, not again as its neighbours refine; the crop margin counts on
+  /// that).
   /// Returns how many pixels are active.
   size_t updateActive(double threshold, uint32_t maxSamples);
 

@@ -170,8 +170,8 @@ TEST_P(AdaptiveSampling, ErrorAgainstAConvergedReferenceFallsWithTheThreshold) {
 }
 
 // --min-samples 1: one sample through each pixel centre; a pixel stops
-// there unless it differs from a neighbour, else it drops the centre sample
-// and takes Sobol passes from 4.
+// there unless it differs from a neighbour or most of its neighbours do,
+// else it drops the centre sample and takes Sobol passes from 4.
 TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
   const double threshold = 0.03;
   const Film film = render(scene, *accel, adaptiveSettings(threshold, 1, 128));

@@ -32,8 +32,20 @@ struct SamplingReport {
 class Film {
 public:
   Film(int width, int height)
-      : width_(width), height_(height), rgb_(pixels() * 3), error_(pixels()),
-        variance_(pixels() * 3), samples_(pixels()) {}
+      : width_(width), height_(height), rgb_(pixels() * 3),
+        estimates_(pixels() * kEstimateFloats), samples_(pixels()) {}
+
+  /// Floats a pixel's estimate takes (estimateData()): the variance of its
+  /// mean (r, g, b), then its error estimate.
+  static constexpr size_t kEstimateFloats = 4;
+  /// Writes the estimate setEstimate gives into a pixel's slot `e`.
+  static void writeEstimate(float *e, const Color &mean, const Color &variance, uint32_t count,
+                            SampleSet samples) {
+    e[0] = static_cast<float>(variance.r);
+    e[1] = static_cast<float>(variance.g);
+    e[2] = static_cast<float>(variance.b);
+    e[3] = static_cast<float>(pixelError(mean, variance, count, samples));
+  }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -66,35 +78,44 @@ public:
   /// samples or more.
   void setEstimate(int x, int y, const Color &mean, const Color &variance, uint32_t count,
                    SampleSet samples) {
-    setError(x, y, static_cast<float>(pixelError(mean, variance, count, samples)));
-    setVariance(x, y, variance);
+    writeEstimate(estimate(x, y), mean, variance, count, samples);
   }
 
-  /// Takes `rgb` (three floats a pixel, as data()) and `samples` (a count
-  /// a pixel) as its colours and sample counts (SampleBuffer::moveTo).
-  void adopt(ZeroedVector<float> &&rgb, ZeroedVector<uint32_t> &&samples) {
-    assert(rgb.size() == rgb_.size() && samples.size() == samples_.size());
+  /// Takes `rgb` (three floats a pixel, as data()), `samples` (a count a
+  /// pixel) and `estimates` (`stride` floats a pixel, each pixel's first
+  /// kEstimateFloats as estimateData()'s, 0 below two samples) as its
+  /// colours, sample counts and estimates (SampleBuffer::moveTo: the
+  /// estimates in place of its squares, so the film writes no page the
+  /// render left unmapped).
+  void adopt(ZeroedVector<float> &&rgb, ZeroedVector<uint32_t> &&samples,
+             ZeroedVector<float> &&estimates, size_t stride) {
+    assert(rgb.size() == rgb_.size() && samples.size() == samples_.size() &&
+           stride >= kEstimateFloats && estimates.size() == pixels() * stride);
     rgb_ = std::move(rgb);
     samples_ = std::move(samples);
+    estimates_ = std::move(estimates);
+    estimateStride_ = stride;
   }
 
   /// The pixel's error estimate (0 with fewer than two samples).
-  float error(int x, int y) const { return error_[static_cast<size_t>(y) * width_ + x]; }
-  void setError(int x, int y, float e) { error_[static_cast<size_t>(y) * width_ + x] = e; }
+  float error(int x, int y) const { return estimate(x, y)[3]; }
+  void setError(int x, int y, float e) { estimate(x, y)[3] = e; }
   uint32_t sampleCount(int x, int y) const { return samples_[static_cast<size_t>(y) * width_ + x]; }
   void setSampleCount(int x, int y, uint32_t n) {
     samples_[static_cast<size_t>(y) * width_ + x] = n;
   }
-  const ZeroedVector<float> &errorData() const { return error_; }
+  /// Every pixel's estimate: kEstimateFloats a pixel, or the stride a film
+  /// adopted them with (the floats past kEstimateFloats then 0).
+  const ZeroedVector<float> &estimateData() const { return estimates_; }
   /// The variance of the pixel's value (the mean of its samples) per
   /// channel: the samples' variance over their count (0 below two samples).
   /// lray-compare's noise-aware test reads it from the EXR (Variance.R/G/B).
   Color variance(int x, int y) const {
-    const float *v = &variance_[(static_cast<size_t>(y) * width_ + x) * 3];
+    const float *v = estimate(x, y);
     return {v[0], v[1], v[2]};
   }
   void setVariance(int x, int y, const Color &v) {
-    float *p = &variance_[(static_cast<size_t>(y) * width_ + x) * 3];
+    float *p = estimate(x, y);
     p[0] = static_cast<float>(v.r);
     p[1] = static_cast<float>(v.g);
     p[2] = static_cast<float>(v.b);
@@ -119,16 +140,23 @@ public:
 
   /// The memory its pixels hold.
   size_t memoryBytes() const {
-    return (rgb_.size() + error_.size() + variance_.size()) * sizeof(float) +
+    return (rgb_.size() + estimates_.size()) * sizeof(float) +
            samples_.size() * sizeof(uint32_t) + aov_.size() * sizeof(Aov);
   }
 
 private:
+  float *estimate(int x, int y) {
+    return &estimates_[(static_cast<size_t>(y) * width_ + x) * estimateStride_];
+  }
+  const float *estimate(int x, int y) const {
+    return &estimates_[(static_cast<size_t>(y) * width_ + x) * estimateStride_];
+  }
+
   int width_, height_;
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
   ZeroedVector<float> rgb_;
-  ZeroedVector<float> error_;
-  ZeroedVector<float> variance_;
+  ZeroedVector<float> estimates_;
+  size_t estimateStride_ = kEstimateFloats;
   ZeroedVector<uint32_t> samples_;
   std::vector<Aov> aov_;
 };

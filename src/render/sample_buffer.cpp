@@ -304,24 +304,30 @@ void SampleBuffer::writeTo(Film &film) const {
 }
 
 void SampleBuffer::moveTo(Film &film) && {
-  // The sums become the means where they lie: a pixel of one sample holds
-  // its mean already, one without samples 0 (the same values writeTo
-  // gives), so only pixels of two samples or more are written.
+  // The sums become the means and the squares the estimates where they
+  // lie: a pixel of one sample (a centre, whose squares were never
+  // written) holds its mean and 0 estimate already, one without samples 0
+  // (the same values writeTo gives), so only pixels of two samples or
+  // more are written, and only in pages their samples mapped.
+  static_assert(Film::kEstimateFloats <= 6, "a pixel's estimate fits in its squares' place");
   tbb::parallel_for(0, height_, [&](int y) {
     setFlushToZero();
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       const uint32_t n = count_[i];
+      assert(n >= 2 || n == 0 || centreOnly_[i]);
       if (n < 2) continue;
       const Color m = mean(i);
-      film.setEstimate(x, y, m, variance(i), n, samples_);
+      float *estimate = &squares_[i * 6];
+      Film::writeEstimate(estimate, m, variance(i), n, samples_);
+      std::fill(estimate + Film::kEstimateFloats, estimate + 6, 0.f);
       float *sum = &sums_[i * 3];
       sum[0] = static_cast<float>(m.r);
       sum[1] = static_cast<float>(m.g);
       sum[2] = static_cast<float>(m.b);
     }
   });
-  film.adopt(std::move(sums_), std::move(count_));
+  film.adopt(std::move(sums_), std::move(count_), std::move(squares_), 6);
   summarizeSampling(film);
 }
 

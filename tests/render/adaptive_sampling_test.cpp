@@ -116,7 +116,7 @@ TEST_P(AdaptiveSampling, SameBytesSamplesAndEstimatesForAnyThreadCount) {
       return render(scene, *accel, fs);
     }();
     EXPECT_EQ(one.data(), many.data()) << minSamples;
-    EXPECT_EQ(one.errorData(), many.errorData()) << minSamples;
+    EXPECT_EQ(one.estimateData(), many.estimateData()) << minSamples;
     EXPECT_EQ(one.report.samples, many.report.samples) << minSamples;
     EXPECT_GT(one.report.passes, 1) << minSamples;
   }

@@ -79,7 +79,7 @@ TEST(ShadowShaft, SkipsChangeNoByteOnEitherBackendInAnySamplingMode) {
       const Film without =
           renderScriptFrame(script, info, 0, backend, images, off, nullptr, sampling);
       EXPECT_EQ(with.data(), without.data()) << backend;
-      EXPECT_EQ(with.errorData(), without.errorData()) << backend;
+      EXPECT_EQ(with.estimateData(), without.estimateData()) << backend;
       // Rays were really skipped, and every skipped ray is one the other
       // render traced.
       EXPECT_GT(on.rays.shadowSkipped, on.rays.shadow / 5) << backend;

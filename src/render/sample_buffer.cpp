@@ -19,7 +19,7 @@ SampleBuffer::SampleBuffer(int width, int height, SampleSet samples, int x0, int
     : width_(width), height_(height), samples_(samples),
       region_{x1 > x0 && y1 > y0 ? PixelWindow{x0, y0, x1, y1} : PixelWindow{0, 0, width, height}},
       sums_(static_cast<size_t>(width) * height * 3),
-      squares_(static_cast<size_t>(width) * height * 6),
+      squares_(static_cast<size_t>(width) * height * kSquareFloats),
       count_(static_cast<size_t>(width) * height), active_(static_cast<size_t>(width) * height),
       centreOnly_(static_cast<size_t>(width) * height) {}
 
@@ -41,7 +41,7 @@ Color SampleBuffer::variance(size_t i) const {
   const uint32_t n = count_[i];
   if (n < 2) return {}; // (and a centre's squares are never read)
   const float *s = &sums_[i * 3];
-  const float *q = &squares_[i * 6];
+  const float *q = &squares_[i * kSquareFloats];
   const Color shifted = Color(s[0], s[1], s[2]) - Color(q[3], q[4], q[5]) * n;
   return varianceOfMean(shifted, {q[0], q[1], q[2]}, n);
 }
@@ -309,7 +309,7 @@ void SampleBuffer::moveTo(Film &film) && {
   // written) holds its mean and 0 estimate already, one without samples 0
   // (the same values writeTo gives), so only pixels of two samples or
   // more are written, and only in pages their samples mapped.
-  static_assert(Film::kEstimateFloats <= 6, "a pixel's estimate fits in its squares' place");
+  static_assert(Film::kEstimateFloats <= kSquareFloats, "an estimate fits in a pixel's squares");
   tbb::parallel_for(0, height_, [&](int y) {
     setFlushToZero();
     for (int x = 0; x < width_; ++x) {
@@ -318,16 +318,16 @@ void SampleBuffer::moveTo(Film &film) && {
       assert(n >= 2 || n == 0 || centreOnly_[i]);
       if (n < 2) continue;
       const Color m = mean(i);
-      float *estimate = &squares_[i * 6];
+      float *estimate = &squares_[i * kSquareFloats];
       Film::writeEstimate(estimate, m, variance(i), n, samples_);
-      std::fill(estimate + Film::kEstimateFloats, estimate + 6, 0.f);
+      std::fill(estimate + Film::kEstimateFloats, estimate + kSquareFloats, 0.f);
       float *sum = &sums_[i * 3];
       sum[0] = static_cast<float>(m.r);
       sum[1] = static_cast<float>(m.g);
       sum[2] = static_cast<float>(m.b);
     }
   });
-  film.adopt(std::move(sums_), std::move(count_), std::move(squares_), 6);
+  film.adopt(std::move(sums_), std::move(count_), std::move(squares_), kSquareFloats);
   summarizeSampling(film);
 }
 

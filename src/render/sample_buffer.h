@@ -49,7 +49,7 @@ public:
   /// kept about the pixel's first mean (`shift`), so that the variance does
   /// not cancel away in float.
   void add(size_t i, const Color &sum, const Color &squares, uint32_t samples) {
-    float *q = &squares_[i * 6];
+    float *q = &squares_[i * kSquareFloats];
     if (count_[i] == 0 && samples > 0) {
       const Color first = sum / static_cast<double>(samples);
       q[3] = static_cast<float>(first.r);
@@ -85,7 +85,7 @@ public:
   bool restart(size_t i) {
     if (!centreOnly_[i]) return false;
     std::fill_n(&sums_[i * 3], 3, 0.f);
-    std::fill_n(&squares_[i * 6], 6, 0.f);
+    std::fill_n(&squares_[i * kSquareFloats], kSquareFloats, 0.f);
     count_[i] = 0;
     centreOnly_[i] = 0;
     return true;
@@ -156,6 +156,9 @@ private:
   PixelWindow region_; ///< the pixels that take part
   // Zeroed by calloc (util/zeroed_vector.h): the render threads map them.
   ZeroedVector<float> sums_; ///< per pixel: sum r,g,b
+  /// Floats of squares_ a pixel: the sums of (sample - shift)^2 in r,g,b,
+  /// then the shift (moveTo writes the pixel's estimate in their place).
+  static constexpr size_t kSquareFloats = 6;
   /// per pixel: the sums of (sample - shift)^2 in r,g,b, then the shift
   ZeroedVector<float> squares_;
   ZeroedVector<uint32_t> count_;

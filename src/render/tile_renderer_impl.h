@@ -403,8 +403,8 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   // each pixel centre (every light cell), the best single sample (as
   // POV-Ray's, and fixed sampling's at 1 x 1); a pixel stops there unless
   // it differs from a neighbour (SampleBuffer::centreContrast) or most of
-  // its neighbours do, which is where edges and texture detail are. The others drop their centre
-  // sample and go on with Sobol passes from 4.
+  // its neighbours do, which is where edges and texture detail are. The
+  // others drop their centre sample and go on with Sobol passes from 4.
   const bool centreFirst = minSamples == 1;
   const uint32_t firstSobol = firstSobolPass(minSamples, maxSamples);
   std::optional<Integ> allCells;

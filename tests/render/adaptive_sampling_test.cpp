@@ -210,7 +210,7 @@ TEST_P(AdaptiveSampling, CentreFirstStopsFlatPixelsAtTheirCentreSample) {
   EXPECT_GT(atCentre, kWidth * kHeight / 5);
   EXPECT_LT(atCentre, kWidth * kHeight);
   // Pixels along an edge take samples; those beside them, whose centres
-  // match all their neighbours', do not (SampleBuffer::updateActive).
+  // match all their neighbours', do not (SampleBuffer::setActiveAround).
   EXPECT_GT(besideAnEdge, 0);
   EXPECT_LT(film.report.samples,
             render(scene, *accel, adaptiveSettings(threshold, 4, 128)).report.samples);

@@ -66,8 +66,8 @@ POV_SUPPORT = ["lray.inc", "texture.png"]
 REF_SAMPLES = 16
 LADDER = {
     "samples": [1, 2, 3, 4, 6, 8],
-    "thresholds": ["0.5", "0.3", "0.25", "0.2", "0.15", "0.12", "0.1", "0.085", "0.07", "0.06",
-                   "0.05", "0.04", "0.03", "0.02", "0.01", "0.005"],
+    "thresholds": ["1", "0.7", "0.5", "0.3", "0.25", "0.2", "0.15", "0.12", "0.1", "0.085", "0.07",
+                   "0.06", "0.05", "0.04", "0.03", "0.025", "0.02", "0.01", "0.005"],
     # time limits as fractions of the LRay reference's render time
     "time_fractions": [1 / 32, 1 / 16, 1 / 8, 1 / 4],
     "pov": [("noaa", "-A", ["-A"]),
@@ -80,7 +80,7 @@ LADDER = {
 }
 # The sampler comparison of results.md: each renderer's adaptive modes
 # against its own 16-rays-per-pixel fixed sampling (LRay -s 4 with every
-# light cell; POV-Ray +AM1 +R4, 4 x 4 rays).
+# light cell; POV-Ray +AM1 +R4, 4 x 4 rays and the centre ray).
 ADAPTIVE_BASE = {"lray": ("fixed-all", "4"), "povray": ("forced", "+R4")}
 ADAPTIVE_MODES = {"lray": ("adaptive", "adaptive-min1"), "povray": ("adaptive",)}
 QUICK_LADDER = {
@@ -89,7 +89,9 @@ QUICK_LADDER = {
     "time_fractions": [1 / 16, 1 / 4],
     "pov": LADDER["pov"][:3],
 }
-POV_REF_DEPTH = 5  # POV-Ray reference: +A0.0 +AM1 +R5 (the ladder goes to +R4)
+# POV-Ray's reference: one ray through each pixel of a -A render at 16 x the
+# size, 16 x 16 rays a pixel averaged (pov_reference says why not +AM1).
+POV_REF_SCALE = 16
 
 # mesh200k's torus: the same formula as scenes/mesh200k.lua.
 TORUS_NU, TORUS_NV = 500, 200
@@ -166,9 +168,62 @@ def read_rgb(path):
     return img[..., :3]
 
 
+def read_ppm16(path):
+    """A binary PPM (P6) as float RGB in [0, 1] (POV-Ray's +FP16 output)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    fields, i = [], 0
+    while len(fields) < 4:
+        if data[i:i + 1] == b"#":
+            i = data.index(b"\n", i) + 1
+        elif data[i:i + 1].isspace():
+            i += 1
+        else:
+            j = i
+            while not data[j:j + 1].isspace():
+                j += 1
+            fields.append(data[i:j])
+            i = j
+    if fields[0] != b"P6":
+        raise BenchError("%s: not a binary PPM" % path)
+    w, h, maxval = (int(x) for x in fields[1:])
+    dtype = ">u2" if maxval > 255 else "u1"
+    count = w * h * 3
+    pixels = np.frombuffer(data, dtype=dtype, count=count, offset=i + 1)
+    return pixels.reshape(h, w, 3).astype(np.float64) / maxval
+
+
+def srgb_to_linear(v):
+    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+
+
+def linear_to_srgb(v):
+    return np.where(v <= 0.0031308, v * 12.92, 1.055 * np.maximum(v, 0) ** (1 / 2.4) - 0.055)
+
+
+def box_downsample_srgb(img, scale):
+    """Each scale x scale block of sRGB-encoded `img` averaged in linear light
+    and encoded back, as POV-Ray averages its anti-aliasing rays, rounded to
+    the 8-bit values its PNG output holds (the same rounding as its +FP16
+    output's top bits)."""
+    h, w = img.shape[0] // scale, img.shape[1] // scale
+    out = np.empty((h, w, 3), dtype=np.uint8)
+    for y in range(h):
+        block = srgb_to_linear(img[y * scale:(y + 1) * scale])
+        mean = block.reshape(scale, w, scale, 3).mean(axis=(0, 2))
+        out[y] = np.clip(np.round(linear_to_srgb(mean) * 255), 0, 255)
+    return out
+
+
 def median_or_blank(values):
     """The median of a run's repeated render times ("" when none was read)."""
     return statistics.median(values) if values else ""
+
+
+def pov_reference_setting(args):
+    """How results.md names POV-Ray's reference."""
+    return "-A x%d, %d x %d rays a pixel" % (args.pov_ref_scale, args.pov_ref_scale,
+                                            args.pov_ref_scale)
 
 
 def rmse(a, b):
@@ -334,31 +389,33 @@ class Runner:
             n = write_torus_mesh2(os.path.join(self.pov_dir, "mesh200k_mesh.inc"))
             print("wrote pov/mesh200k_mesh.inc (%d triangles, %.1f s)" % (n, time.perf_counter() - t0))
 
-    def pov_render(self, scene, name, opts):
+    def pov_render(self, scene, name, opts, scale=1):
         """Renders pov/<scene>.pov in pov/ (POV-Ray's I/O restrictions allow
-        writing in its working folder) and moves the image to renders/."""
+        writing in its working folder) and moves the image to renders/; at
+        `scale` x the size as a 16-bit PPM, for pov_reference."""
         info = SCENES[scene]
         a = self.args
         base = "%s-%s" % (scene, name)
-        cmd = ["povray", "+I%s.pov" % scene, "+O%s.png" % base, "+W%d" % a.width, "+H%d" % a.height,
-               "+FN", "-D", "-V", "+WT%d" % a.threads] + opts
+        ext, fmt = ("png", "+FN") if scale == 1 else ("ppm", "+FP16")
+        cmd = ["povray", "+I%s.pov" % scene, "+O%s.%s" % (base, ext), "+W%d" % (a.width * scale),
+               "+H%d" % (a.height * scale), fmt, "-D", "-V", "+WT%d" % a.threads] + opts
         if "frame" in info:
             last, f = info["frames"] - 1, info["frame"]
             cmd += ["+KFI0", "+KFF%d" % last, "+KI0", "+KF1", "+SF%d" % f, "+EF%d" % f]
-        final = os.path.join(self.out, "renders", scene, name + ".png")
+        final = os.path.join(self.out, "renders", scene, name + "." + ext)
         os.makedirs(os.path.dirname(final), exist_ok=True)
         walls, traces = [], []
         for k in range(a.repeat):
-            for old in glob.glob(os.path.join(self.pov_dir, base + "*.png")):
+            for old in glob.glob(os.path.join(self.pov_dir, base + "*." + ext)):
                 os.remove(old)
             wall, log = run_checked(cmd, cwd=self.pov_dir)
             walls.append(wall)
             if re.search(r"Fatal error|Parse Error|Render error", log) and "Possible Parse Error" not in log:
                 raise BenchError("povray reported an error:\n  %s\n%s" % (shlex.join(cmd), log[-4000:]))
-            pngs = glob.glob(os.path.join(self.pov_dir, base + "*.png"))
+            pngs = glob.glob(os.path.join(self.pov_dir, base + "*." + ext))
             if len(pngs) != 1:
-                raise BenchError("povray wrote %d images named %s*.png, expected 1:\n  %s\n%s"
-                                 % (len(pngs), base, shlex.join(cmd), log[-4000:]))
+                raise BenchError("povray wrote %d images named %s*.%s, expected 1:\n  %s\n%s"
+                                 % (len(pngs), base, ext, shlex.join(cmd), log[-4000:]))
             times = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
             if times:
                 traces.append(sum(float(t) for t in times))
@@ -366,11 +423,27 @@ class Runner:
                 shutil.move(pngs[0], final)
         return statistics.median(walls), median_or_blank(traces), final, cmd
 
+    def pov_reference(self, scene):
+        """POV-Ray's reference: -A at --pov-ref-scale N times the size, each
+        N x N block of rays averaged into a pixel (box_downsample_srgb). Its
+        rays lie at odd multiples of 1/(2N) of a pixel (N even), none of them
+        a ray of the runs it judges: the pixel centre (-A; and every +AM1
+        run, which averages its centre ray with its grid, POV-Ray's
+        TraceTask::SupersampleOnePixel), +AM1's grids at (i + 1/2) / depth
+        (jittered by default), +AM2's corners and quarter points. POV-Ray's
+        own +A0.0 +AM1 reference would hold the centre ray -A traces."""
+        scale = self.args.pov_ref_scale
+        wall, trace_s, ppm_path, cmd = self.pov_render(scene, "pov-reference", ["-A"], scale)
+        ref_path = ppm_path[:-len(".ppm")] + ".png"
+        mpimg.imsave(ref_path, box_downsample_srgb(read_ppm16(ppm_path), scale))
+        os.remove(ppm_path)
+        self.add_row(scene, "povray", "", "reference", pov_reference_setting(self.args), wall, 0.0,
+                     trace_s, ref_path, cmd)
+        return ref_path
+
     def pov_ladder(self, scene):
         ladder = QUICK_LADDER if self.args.quick else LADDER
-        opts = ["+A0.0", "+AM1", "+R%d" % self.args.pov_ref_depth]
-        wall, trace_s, ref_path, cmd = self.pov_render(scene, "pov-reference", opts)
-        self.add_row(scene, "povray", "", "reference", " ".join(opts), wall, 0.0, trace_s, ref_path, cmd)
+        ref_path = self.pov_reference(scene)
         ref = read_rgb(ref_path)
         for mode, setting, opts in ladder["pov"]:
             name = "pov-%s-%s" % (mode, re.sub(r"[^A-Za-z0-9.]+", "", setting))
@@ -404,8 +477,8 @@ class Runner:
                 pref = self.pov_ladder(scene)
                 e = rmse(read_rgb(lref), read_rgb(pref))
                 self.add_row(scene, "lray-vs-pov", "", "reference",
-                             "lray -s %d vs povray +A0.0 +AM1 +R%d"
-                             % (self.args.ref_samples, self.args.pov_ref_depth),
+                             "lray -s %d vs povray %s"
+                             % (self.args.ref_samples, pov_reference_setting(self.args)),
                              None, e, "", None, None)
         shutil.rmtree(self.tmp_dir, ignore_errors=True)
         self.write_csv()
@@ -436,7 +509,7 @@ class Runner:
                  "Seconds: wall time of the whole process; render s: LRay's "
                  "`--stats` `times.render`, POV-Ray's trace time (medians of %d runs)."
                  % (a.width, a.height, a.threads, self.lray, " (--quick)" if a.quick else "",
-                    self.pov or "not run", a.ref_samples, "+A0.0 +AM1 +R%d" % a.pov_ref_depth,
+                    self.pov or "not run", a.ref_samples, pov_reference_setting(a),
                     a.repeat), ""]
         for n in self.notes:
             lines.append("- Note: " + n)
@@ -727,8 +800,9 @@ def main():
     p.add_argument("--time-limits", default="",
                    help="comma-separated --time-limit seconds (default: 1/32, 1/16, 1/8, 1/4 of the "
                         "reference's render time; --quick: 1/16, 1/4)")
-    p.add_argument("--pov-ref-depth", type=int, default=POV_REF_DEPTH,
-                   help="POV-Ray reference: +A0.0 +AM1 +R<N> (default 4)")
+    p.add_argument("--pov-ref-scale", type=int, default=POV_REF_SCALE,
+                   help="POV-Ray reference: -A at N times the size, N x N rays averaged into a "
+                        "pixel (an even N, default 16)")
     p.add_argument("--repeat", type=int, default=1,
                    help="runs per setting: medians of the wall and render times (default 1)")
     p.add_argument("--no-pov", action="store_true", help="skip POV-Ray even when it is on PATH")
@@ -737,8 +811,10 @@ def main():
     args = p.parse_args()
     if args.from_csv:
         return rewrite_from_csv(args)
-    if min(args.width, args.height, args.threads, args.repeat, args.ref_samples, args.pov_ref_depth) < 1:
-        p.error("--width, --height, --threads, --repeat, --ref-samples and --pov-ref-depth must be positive")
+    if min(args.width, args.height, args.threads, args.repeat, args.ref_samples) < 1:
+        p.error("--width, --height, --threads, --repeat and --ref-samples must be positive")
+    if args.pov_ref_scale < 2 or args.pov_ref_scale % 2:
+        p.error("--pov-ref-scale must be even (an odd N traces the pixel centres -A traces)")
     if not os.access(args.lray, os.X_OK):
         p.error("no lray binary at %s (build it, or give --lray)" % args.lray)
     try:

@@ -105,6 +105,16 @@ ObjectSurface surfaceOf(const S &shape, const Ray &ray, const ObjectHit &oh, boo
     return shape.surface(ray, oh);
 }
 
+/// A shape's test settled before its origin shift, where the shape can
+/// (Sphere::missesLine): the same answer, false, as the full test.
+template <class S>
+[[gnu::always_inline]] inline bool clearlyMissed(const S &shape, const Ray &objectRay) {
+  if constexpr (requires { shape.missesLine(objectRay); })
+    return shape.missesLine(objectRay);
+  else
+    return false;
+}
+
 /// The hit of an object-space test's result `oh` on `ray` (the shifted
 /// object ray of `worldRay`, re-origined by `shift`), before `tMax`; its
 /// (u, v) as Entity::readsUv says (`uv`).
@@ -145,6 +155,7 @@ bool intersectAnalytic(const S &shape, const Mat4 &inverse, Placement placement,
                        double tMax, Hit &hit) {
   Ray ray = objectRay(inverse, worldRay);
   ray.tMax = tMax;
+  if (clearlyMissed(shape, ray)) return false;
   const double shift = shape.originShift(ray);
   reorigin(ray, shift);
   ObjectHit oh;
@@ -160,6 +171,7 @@ template <class S>
                                                     const Ray &worldRay, double tMax) {
   Ray ray = objectRay(inverse, worldRay);
   ray.tMax = tMax;
+  if (clearlyMissed(shape, ray)) return false;
   reorigin(ray, shape.originShift(ray));
   ObjectHit oh;
   return shape.intersect(ray, oh);

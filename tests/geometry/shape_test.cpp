@@ -127,6 +127,46 @@ TEST(Sphere, OutwardRaysMissAsTheRootsSay) {
   EXPECT_GT(settled, 50000);
 }
 
+// Sphere::missesLine settles lines before the origin shift: wherever it
+// does, the full test (shift, then intersect) must miss too, for lines
+// from near and from up to 1e10 away (the shift's rounding grows with the
+// distance), passing just outside its margin, at every tMin and tMax. And
+// it must settle most clear misses, or it only costs.
+TEST(Sphere, LinesMissedBeforeTheShiftMissAfterIt) {
+  const Sphere sphere;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int settled = 0, clearMisses = 0;
+  for (int i = 0; i < 300000; ++i) {
+    const Vec3 dir = normalize(Vec3(u(rng), u(rng), u(rng)) + Vec3(0, 1e-9, 0));
+    Vec3 side = cross(dir, Vec3(u(rng), u(rng), u(rng)));
+    if (length(side) == 0) continue;
+    side = normalize(side);
+    // The line's distance from the centre: around the margin, or anywhere.
+    const double dist = i % 2 == 0 ? std::sqrt(1 + 1e-3) * (1 + std::ldexp(u(rng), -12))
+                                   : 3 * std::fabs(u(rng));
+    const double far = std::ldexp(1.0, static_cast<int>(rng() % 34)); // 1 to 2^33
+    const Vec3 o = side * dist - dir * (far * u(rng));
+    const Vec3 d = dir * std::ldexp(1.0 + std::fabs(u(rng)), static_cast<int>(rng() % 9) - 4);
+    const double tMin = i % 3 == 0 ? -1e12 : 0.0;
+    Ray r{o, d, tMin, i % 4 == 0 ? 1.0 : 1e30};
+    const bool missed = sphere.missesLine(r);
+    settled += missed;
+    clearMisses += dist > 1.01;
+    const double shift = sphere.originShift(r);
+    if (shift != 0) {
+      r.o = r.at(shift);
+      r.tMin -= shift;
+      r.tMax -= shift;
+    }
+    ObjectHit hit;
+    if (missed) {
+      ASSERT_FALSE(sphere.intersect(r, hit)) << i;
+    }
+  }
+  EXPECT_GT(settled, clearMisses * 9 / 10);
+}
+
 TEST(Sphere, WorldBoundsAreExactForRotatedEllipsoid) {
   Transform xf = Transform::translate({1, 2, 3}) * Transform::rotate({0, 0, 1}, 30) *
                  Transform::scale(3, 1, 2);

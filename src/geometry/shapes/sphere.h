@@ -17,6 +17,11 @@ struct Sphere {
   /// Tight world box of the sphere placed by `worldFromObject` (unpadded).
   Bounds3 worldBounds(const Mat4 &worldFromObject) const;
   double originShift(const Ray &ray) const { return closestApproachShift(ray, {}, kFarOrigin); }
+  /// True only where the line of `ray` (object space, before originShift)
+  /// passes the sphere by a clear margin, so that intersect, after any
+  /// origin shift, finds no hit: most of the lines a backend's box lets
+  /// through are settled without the shift's division (sphere_detail).
+  bool missesLine(const Ray &ray) const;
   /// Inline: most of a shadow ray's tests among many spheres are a few
   /// products and a miss.
   bool intersect(const Ray &ray, ObjectHit &hit) const;
@@ -60,7 +65,32 @@ template <bool Outward = false> inline bool roots(const Ray &ray, double &t0, do
   return true;
 }
 
+/// Lines no farther than this from the centre go to the full test: with
+/// an origin shifted to the closest approach (|o| up to kMaxPrefilteredOrigin)
+/// the full test's rounding is far inside it.
+constexpr double kClearMargin = 1e-3;
+constexpr double kMaxPrefilteredOrigin = 1e10;
+
 } // namespace sphere_detail
+
+inline bool Sphere::missesLine(const Ray &ray) const {
+  // a |o|^2 - h^2 is a^2 times the line's squared distance from the centre
+  // over a: roots() tests the same expression, after the shift when the
+  // origin is far, where it cannot cancel. Unshifted its rounding is at
+  // most about 16 u |o|^2 a (u = 2^-53), which the 1e-12 |o|^2 a term
+  // covers, so a true answer means the line passes at more than
+  // sqrt(1 + kClearMargin) radii. The shifted origin is then within a few
+  // u |o| of the closest point, so roots() sees the line as far outside
+  // its own threshold as well (for |o| up to kMaxPrefilteredOrigin; and
+  // unshifted, this threshold is above roots()'s). NaN and a = 0: false.
+  const Vec3 &o = ray.o, &d = ray.d;
+  const double a = dot(d, d);
+  const double h = dot(o, d);
+  const double oo = dot(o, o);
+  using namespace sphere_detail;
+  return oo < kMaxPrefilteredOrigin * kMaxPrefilteredOrigin &&
+         oo * a - h * h > a * (1 + kClearMargin) + 1e-12 * oo * a;
+}
 
 inline bool Sphere::intersect(const Ray &ray, ObjectHit &hit) const {
   double t0, t1;

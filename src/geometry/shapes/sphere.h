@@ -74,15 +74,16 @@ constexpr double kMaxPrefilteredOrigin = 1e10;
 } // namespace sphere_detail
 
 inline bool Sphere::missesLine(const Ray &ray) const {
-  // a |o|^2 - h^2 is a^2 times the line's squared distance from the centre
-  // over a: roots() tests the same expression, after the shift when the
-  // origin is far, where it cannot cancel. Unshifted its rounding is at
-  // most about 16 u |o|^2 a (u = 2^-53), which the 1e-12 |o|^2 a term
-  // covers, so a true answer means the line passes at more than
-  // sqrt(1 + kClearMargin) radii. The shifted origin is then within a few
-  // u |o| of the closest point, so roots() sees the line as far outside
-  // its own threshold as well (for |o| up to kMaxPrefilteredOrigin; and
-  // unshifted, this threshold is above roots()'s). NaN and a = 0: false.
+  // a |o|^2 - h^2 is a times the line's squared distance from the centre
+  // (a = |d|^2, h = o.d): roots() tests the same expression, after the
+  // shift when the origin is far, where it cannot cancel. Unshifted its
+  // rounding is at most about 16 u |o|^2 a (u = 2^-53), which the
+  // 1e-12 |o|^2 a term covers, so a true answer means the line passes at
+  // more than sqrt(1 + kClearMargin) radii. The shifted origin is then
+  // within a few u |o| of the closest point, so roots() sees the line as
+  // far outside its own threshold as well (for |o| up to
+  // kMaxPrefilteredOrigin; and unshifted, this threshold is above
+  // roots()'s). NaN and a = 0: false.
   const Vec3 &o = ray.o, &d = ray.d;
   const double a = dot(d, d);
   const double h = dot(o, d);

@@ -35,6 +35,8 @@ try:
     import numpy as np
     import matplotlib
 except ImportError:
+    if __name__ != "__main__":
+        raise  # imported for its functions: no run in another interpreter
     if os.path.exists("/usr/bin/python3") and not os.environ.get("TVE_SYSTEM_PYTHON"):
         os.environ["TVE_SYSTEM_PYTHON"] = "1"
         os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])

@@ -331,6 +331,11 @@ bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax) {
       entity.shape);
 }
 
+bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax) {
+  return occludedAnalytic(*std::get_if<Sphere>(&entity.shape),
+                          entity.worldFromObject.inverseMatrix(), worldRay, tMax);
+}
+
 int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift) {
   return std::visit(
       [&](const auto &s) {

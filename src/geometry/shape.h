@@ -36,6 +36,11 @@ bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &world
 /// Any intersection with t in (ray.tMin, tMax).
 bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax);
 
+/// occludedShape for an entity that is a Sphere without motion, the same
+/// test without the dispatch on its shape: a backend's callback for
+/// thousands of spheres' shadow rays.
+bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax);
+
 /// The two above within the ray's own bounds.
 inline bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
                            Hit &hit) {

@@ -223,6 +223,9 @@ TEST_P(ShapeRandom, AgreesWithLongDoubleReference) {
       Hit h;
       bool hit = intersectShape(e, 3, ray, h);
       EXPECT_EQ(hit, occludedShape(e, ray));
+      if (GetParam().kind == ShapeKind::Sphere) {
+        EXPECT_EQ(hit, occludedStillSphere(e, ray, ray.tMax));
+      }
       if (ref.ambiguous) continue;
       ++checked;
       ASSERT_EQ(hit, ref.hit) << "entity " << ei << " ray " << k;

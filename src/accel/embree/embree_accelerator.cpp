@@ -324,6 +324,11 @@ struct EmbreeCallbacks {
   static void occludedShapeLanes(const RTCOccludedFunctionNArguments *args,
                                  const EmbreeAccelerator::ShapeRef &shape,
                                  const MovingBoxes *moving) {
+    if (shape.stillSphere)
+      return occludedLanes(args, [&shape](const Ray &ray, float tfar) {
+        return occludedStillSphere(*shape.entity, ray,
+                                   std::min(ray.tMax, static_cast<double>(tfar)));
+      });
     occludedLanes(args, [&shape, moving](const Ray &ray, float tfar) {
       const double tMax = std::min(ray.tMax, static_cast<double>(tfar));
       if (moving && moving->misses(shape.index, ray, tMax)) return false;
@@ -525,7 +530,7 @@ void EmbreeAccelerator::build() {
       // A shape with empty bounds (a CSG Intersection of disjoint solids)
       // has nothing to hit, and Embree would take its inverted box in.
       if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty())
-        shapeRefs_.push_back({&e, id});
+        shapeRefs_.push_back({&e, id, nullptr, !e.motion && std::holds_alternative<Sphere>(e.shape)});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

@@ -53,6 +53,7 @@ public:
     const Entity *entity = nullptr;
     uint32_t index = 0;
     RTCSceneTy *meshScene = nullptr; ///< a moving mesh: its triangle scene
+    bool stillSphere = false; ///< occludedStillSphere tests it
   };
 
 private:

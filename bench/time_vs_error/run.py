@@ -414,15 +414,15 @@ class Runner:
             walls.append(wall)
             if re.search(r"Fatal error|Parse Error|Render error", log) and "Possible Parse Error" not in log:
                 raise BenchError("povray reported an error:\n  %s\n%s" % (shlex.join(cmd), log[-4000:]))
-            pngs = glob.glob(os.path.join(self.pov_dir, base + "*." + ext))
-            if len(pngs) != 1:
+            images = glob.glob(os.path.join(self.pov_dir, base + "*." + ext))
+            if len(images) != 1:
                 raise BenchError("povray wrote %d images named %s*.%s, expected 1:\n  %s\n%s"
-                                 % (len(pngs), base, ext, shlex.join(cmd), log[-4000:]))
+                                 % (len(images), base, ext, shlex.join(cmd), log[-4000:]))
             times = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
             if times:
                 traces.append(sum(float(t) for t in times))
             if k == 0:
-                shutil.move(pngs[0], final)
+                shutil.move(images[0], final)
         return statistics.median(walls), median_or_blank(traces), final, cmd
 
     def pov_reference(self, scene):
@@ -542,10 +542,10 @@ class Runner:
                           "with an RMSE no larger; ratio = POV-Ray seconds / LRay seconds (above 1: "
                           "LRay faster). The last two columns compare render time alone (POV-Ray's "
                           "trace time, LRay's frame time from --stats), without either renderer's "
-                          "start-up and parsing: the fastest LRay run by render time and its ratio, and "
-                          "the ratio to the render time read off LRay's quickest ladder at POV-Ray's "
-                          "RMSE (log time against log RMSE between the two runs of a mode that "
-                          "bracket it: the ladders' steps are coarse).", "",
+                          "start-up and parsing: the fastest LRay run by render time and its "
+                          "ratio, and the ratio to the render time read off LRay's quickest "
+                          "ladder at POV-Ray's RMSE (log time against log RMSE between the two "
+                          "runs of a mode that bracket it: the ladders' steps are coarse).", "",
                           "| POV-Ray run | POV s | POV RMSE | backend | fastest LRay run | LRay s | LRay RMSE | ratio "
                           "| fastest by render time | render ratio | interpolated render ratio |",
                           "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -562,7 +562,8 @@ class Runner:
                                             best["rmse"], p["seconds"] / best["seconds"], render,
                                             interpolated_render_ratio(p, rows, b)))
                         else:
-                            lines.append("| %s | %s | none reaches it | | | | | | |" % (pov_cells, b))
+                            lines.append("| %s | %s | none reaches it | | | | | | |"
+                                         % (pov_cells, b))
                 lines.append("")
         lines += self.adaptive_md()
         with open(os.path.join(self.out, "results.md"), "w") as f:

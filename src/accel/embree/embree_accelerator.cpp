@@ -530,7 +530,8 @@ void EmbreeAccelerator::build() {
       // A shape with empty bounds (a CSG Intersection of disjoint solids)
       // has nothing to hit, and Embree would take its inverted box in.
       if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty())
-        shapeRefs_.push_back({&e, id, nullptr, !e.motion && std::holds_alternative<Sphere>(e.shape)});
+        shapeRefs_.push_back(
+            {&e, id, nullptr, !e.motion && std::holds_alternative<Sphere>(e.shape)});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

@@ -41,6 +41,11 @@ bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax);
 /// thousands of spheres' shadow rays.
 bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax);
 
+/// Whether occludedStillSphere may test `entity`.
+inline bool isStillSphere(const Entity &entity) {
+  return !entity.motion && std::holds_alternative<Sphere>(entity.shape);
+}
+
 /// The two above within the ray's own bounds.
 inline bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay,
                            Hit &hit) {

@@ -531,7 +531,7 @@ void EmbreeAccelerator::build() {
       // has nothing to hit, and Embree would take its inverted box in.
       if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty())
         shapeRefs_.push_back(
-            {&e, id, nullptr, !e.motion && std::holds_alternative<Sphere>(e.shape)});
+            {&e, id, nullptr, isStillSphere(e)});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

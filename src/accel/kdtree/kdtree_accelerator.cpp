@@ -374,7 +374,11 @@ template <KdRays Rays>
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
     if (moving_.misses(inst.entity, ray, ray.tMax)) return false;
-    if (inst.meshTree == kAnalytic) return occludedShape(scene_.entities[inst.entity], ray);
+    if (inst.meshTree == kAnalytic) {
+      const Entity &entity = scene_.entities[inst.entity];
+      return isStillSphere(entity) ? occludedStillSphere(entity, ray, ray.tMax)
+                                   : occludedShape(entity, ray);
+    }
     double tObject = ray.tMax;
     MeshHit unused;
     return intersectMesh<true, Rays>(inst, ray, tObject, unused);
@@ -417,10 +421,13 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       }
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
+      const bool stillSphere = isStillSphere(entity);
       for (; in != 0; in &= in - 1) {
         const int i = std::countr_zero(in);
         if (AnyHit) {
-          if (!occludedShape(entity, rays[i], tBest[i])) continue;
+          if (!(stillSphere ? occludedStillSphere(entity, rays[i], tBest[i])
+                            : occludedShape(entity, rays[i], tBest[i])))
+            continue;
         } else {
           Hit candidate;
           if (!intersectShape(entity, inst.entity, rays[i], tBest[i], candidate) ||

@@ -70,6 +70,10 @@ LADDER = {
     "samples": [1, 2, 3, 4, 6, 8],
     "thresholds": ["1", "0.7", "0.5", "0.3", "0.25", "0.2", "0.15", "0.12", "0.1", "0.085", "0.07",
                    "0.06", "0.05", "0.04", "0.03", "0.025", "0.02", "0.01", "0.005"],
+    # --edge-lattice 5: the thresholds (its cells' contrast times their
+    # area: lower than the Sobol passes' for the same error)
+    "lattice_thresholds": ["0.3", "0.15", "0.07", "0.05", "0.035", "0.025", "0.017", "0.012",
+                           "0.008", "0.005", "0.0035", "0.0025", "0.0017"],
     # time limits as fractions of the LRay reference's render time
     "time_fractions": [1 / 32, 1 / 16, 1 / 8, 1 / 4],
     "pov": [("noaa", "-A", ["-A"]),
@@ -84,10 +88,12 @@ LADDER = {
 # against its own 16-rays-per-pixel fixed sampling (LRay -s 4 with every
 # light cell; POV-Ray +AM1 +R4, 4 x 4 rays and the centre ray).
 ADAPTIVE_BASE = {"lray": ("fixed-all", "4"), "povray": ("forced", "+R4")}
-ADAPTIVE_MODES = {"lray": ("adaptive", "adaptive-min1"), "povray": ("adaptive",)}
+ADAPTIVE_MODES = {"lray": ("adaptive", "adaptive-min1", "lattice"),
+                  "povray": ("adaptive",)}
 QUICK_LADDER = {
     "samples": [1, 2],
     "thresholds": ["0.05", "0.01"],
+    "lattice_thresholds": ["0.01"],
     "time_fractions": [1 / 16, 1 / 4],
     "pov": LADDER["pov"][:3],
 }
@@ -370,6 +376,13 @@ class Runner:
                         self.lray_row(scene, backend, "adaptive-min1", t,
                                       ["--noise-threshold", t, "--min-samples", "1"] + max_s +
                                       progressive, ref)
+                # The edge lattice: the centre-first pass, then each flagged
+                # pixel refined on a lattice of its corners.
+                if "--edge-lattice" in self.flags and not a.min_samples:
+                    for t in ladder["lattice_thresholds"]:
+                        self.lray_row(scene, backend, "lattice", t,
+                                      ["--noise-threshold", t, "--min-samples", "1",
+                                       "--edge-lattice", "5"] + max_s + progressive, ref)
             else:
                 self.note("%s has no --noise-threshold/--max-samples: 'adaptive' skipped" % self.lray)
             if self.has("--time-limit"):
@@ -663,7 +676,7 @@ class Runner:
         rows_n = (n + cols - 1) // cols
         fig, axes = plt.subplots(rows_n, cols, figsize=(5.2 * cols, 4 * rows_n), squeeze=False)
         colours = {"fixed-all": "tab:blue", "fixed-spread": "tab:orange", "adaptive": "tab:green",
-                   "adaptive-min1": "tab:olive", "time": "tab:red"}
+                   "adaptive-min1": "tab:olive", "lattice": "tab:purple", "time": "tab:red"}
         styles = {"embree": "-", "kdtree": "--"}
         for ax, scene in zip(axes.flat, a.scenes):
             rows = [r for r in self.rows if r["scene"] == scene and math.isfinite(r["psnr"])

@@ -30,6 +30,10 @@ struct AdaptiveSettings {
   int minSamples = 16;       ///< samples per pixel of the first pass (even, or 1: centre first)
   int maxSamples = 1024;     ///< no pixel takes more
   double timeLimit = 0;      ///< seconds; 0: none
+  /// --edge-lattice: the pixels the centre-first pass finds at an edge are
+  /// refined on a lattice of cells down to 2^-latticeDepth of a pixel wide
+  /// (render/pixel_lattice.h) instead of by Sobol passes; 0: Sobol passes.
+  int latticeDepth = 0;
 };
 
 /// A pixel rectangle [x0, x1) x [y0, y1) of a frame.

@@ -21,7 +21,8 @@ SampleBuffer::SampleBuffer(int width, int height, SampleSet samples, int x0, int
       sums_(static_cast<size_t>(width) * height * 3),
       squares_(static_cast<size_t>(width) * height * kSquareFloats),
       count_(static_cast<size_t>(width) * height), active_(static_cast<size_t>(width) * height),
-      centreOnly_(static_cast<size_t>(width) * height) {}
+      centreOnly_(static_cast<size_t>(width) * height),
+      refined_(static_cast<size_t>(width) * height) {}
 
 bool SampleBuffer::anyActive(int x0, int y0, int x1, int y1) const {
   if (wholeRegionActive_)
@@ -318,9 +319,13 @@ void SampleBuffer::moveTo(Film &film) && {
       assert(n >= 2 || n == 0 || centreOnly_[i]);
       if (n < 2) continue;
       const Color m = mean(i);
-      float *estimate = &squares_[i * kSquareFloats];
-      Film::writeEstimate(estimate, m, variance(i), n, samples_);
-      std::fill(estimate + Film::kEstimateFloats, estimate + kSquareFloats, 0.f);
+      // A refined pixel's squares were never written: its pages stay
+      // unmapped, and its estimate is their 0. (variance reads the sums.)
+      if (!refined_[i]) {
+        float *estimate = &squares_[i * kSquareFloats];
+        Film::writeEstimate(estimate, m, variance(i), n, samples_);
+        std::fill(estimate + Film::kEstimateFloats, estimate + kSquareFloats, 0.f);
+      }
       float *sum = &sums_[i * 3];
       sum[0] = static_cast<float>(m.r);
       sum[1] = static_cast<float>(m.g);

@@ -90,6 +90,25 @@ public:
     centreOnly_[i] = 0;
     return true;
   }
+  /// A pixel refined on its edge lattice (render/pixel_lattice.h): its
+  /// colour and the lattice points it rests on replace its centre sample,
+  /// and it stops. Its estimate is 0 (no spread: the points are not random
+  /// samples).
+  void setRefined(size_t i, const Color &c, uint32_t points) {
+    active_[i] = 0;
+    float *s = &sums_[i * 3];
+    s[0] = static_cast<float>(c.r * points);
+    s[1] = static_cast<float>(c.g * points);
+    s[2] = static_cast<float>(c.b * points);
+    count_[i] = points;
+    centreOnly_[i] = 0;
+    refined_[i] = 1;
+  }
+  /// A centre-only pixel's one sample.
+  Color centre(size_t i) const {
+    const float *s = &sums_[i * 3];
+    return {s[0], s[1], s[2]};
+  }
   uint32_t count(size_t i) const { return count_[i]; }
   bool active(size_t i) const {
     return active(static_cast<int>(i % static_cast<size_t>(width_)),
@@ -169,6 +188,9 @@ private:
   bool wholeRegionActive_ = true;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels
   ZeroedVector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
+  /// The pixel was refined on its edge lattice: its squares were never
+  /// written (its estimate is their 0).
+  ZeroedVector<uint8_t> refined_;
 };
 
 /// The report's sample and error figures (samples, maxPixelSamples,

@@ -9,6 +9,7 @@
 #include "render/owen_sobol_lanes.h"
 #include "math/owen_sobol.h"
 #include "render/pixel_error.h"
+#include "render/pixel_lattice.h"
 #include "render/sample_buffer.h"
 #include "render/tile_renderer.h"
 #include "shading/integrator_impl.h"
@@ -254,6 +255,63 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   if (rays) trace();
 }
 
+/// Refines the tile's active pixels (each with only its centre sample) on
+/// the tile's edge lattice (render/pixel_lattice.h), round by round, each
+/// round's lattice points traced in batches of up to kTilePixels camera
+/// rays (in the order the pixels' cells ask for them, so the batches stay
+/// coherent). A point's sample stream is its own, keyed by its place in the
+/// frame's lattice, so a point on the side of two tiles is the same in both.
+template <class Accel, class Integ>
+void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
+                const FrameSettings &settings, const tile_detail::TileRect &rect,
+                SampleBuffer &buffer, tile_detail::TileWork<Integ> &work, RayCounts &counts) {
+  static thread_local PixelLattice lattice;
+  static thread_local std::vector<PixelLattice::Point> points;
+  const uint32_t cells = 1u << settings.adaptiveSettings.latticeDepth;
+  lattice.reset(settings.adaptiveSettings.latticeDepth, rect.width(), rect.y1 - rect.y0);
+  std::array<uint32_t, tile_detail::kTilePixels> bufferIndex;
+  rect.forEachPixel([&](size_t, int x, int y) {
+    if (!buffer.active(x, y)) return;
+    const size_t b = buffer.index(x, y);
+    const uint32_t p = lattice.add(x - rect.x0, y - rect.y0, buffer.centre(b));
+    bufferIndex[p] = static_cast<uint32_t>(b);
+  });
+  // The frame's lattice: points (X, Y) = (x * cells + i, y * cells + j).
+  const uint64_t frameKey = Sampler::frameKey(settings.stream() ^ 0x9e3779b97f4a7c15ULL);
+  const uint64_t frameSide = static_cast<uint64_t>(settings.width) * cells + 1;
+  const uint64_t x0 = static_cast<uint64_t>(rect.x0) * cells;
+  const uint64_t y0 = static_cast<uint64_t>(rect.y0) * cells;
+  const double step = lattice.step();
+  while (lattice.pixels() > 0) {
+    points.clear();
+    lattice.pending(points);
+    for (size_t k = 0; k < points.size(); k += tile_detail::kTilePixels) {
+      const size_t n = std::min<size_t>(tile_detail::kTilePixels, points.size() - k);
+      for (size_t j = 0; j < n; ++j) {
+        const PixelLattice::Point &q = points[k + j];
+        work.rays[j] = camera.generate(rect.x0 + q.i * step, rect.y0 + q.j * step);
+        work.samplers[j] =
+            Sampler(Sampler::pixelKeyOf(frameKey, (y0 + q.j) * frameSide + x0 + q.i), 0);
+      }
+      accel.intersectCoherent(work.rays.data(), n, work.hits.data(), work.found.data());
+      counts.camera += n;
+      integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
+                           work.samplers.data(), n, work.colors.data(), counts);
+      for (size_t j = 0; j < n; ++j) {
+        Color c = work.colors[j];
+        if (!isFinite(c)) {
+          ++counts.nonFinite;
+          c = Color();
+        }
+        lattice.set(points[k + j], c);
+      }
+    }
+    if (!lattice.judge(settings.adaptiveSettings.noiseThreshold)) break;
+  }
+  for (uint32_t p = 0; p < lattice.pixels(); ++p)
+    buffer.setRefined(bufferIndex[p], lattice.colour(p), lattice.points(p));
+}
+
 /// Fills the film's depth, normal and albedo layers: a 4 x 4 grid of camera
 /// rays through each pixel (cell centres, the same for any sampling), the
 /// first hits averaged. Costs one camera ray per grid point and no shading.
@@ -412,6 +470,13 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     allCells.emplace(scene, accel, images,
                      IntegratorOptions{1, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const Integ &centreIntegrator = allCells ? *allCells : integrator;
+  // --edge-lattice: the pixels the centre-first pass flags are refined on
+  // their lattices, shaded as the centres are (every light cell), in one
+  // more pass. Not for a lens or an open shutter: a lattice point has no
+  // lens or time sample of its own (lua/README.md says so).
+  const bool lattice = centreFirst && adaptive.latticeDepth > 0 &&
+                       settings.integrator == IntegratorKind::Whitted && !camera.hasLens() &&
+                       !camera.timed();
 
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
@@ -489,6 +554,31 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     }
     if (timeUp || cancelled || target >= maxSamples) break;
     if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
+    if (lattice) {
+      forEachTile<Integ>(
+          settings, perThread, progress,
+          [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+            if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
+            if (stopped()) {
+              cancelled = true;
+              return false;
+            }
+            if (timed && std::chrono::steady_clock::now() >= deadline) {
+              timeUp = true;
+              return false;
+            }
+            refineTile(accel, centreIntegrator, camera, settings, rect, buffer, work, local);
+            return true;
+          });
+      ++passes;
+      if (settings.onPass && !cancelled) {
+        Film sofar(settings.width, settings.height);
+        buffer.writeTo(sofar);
+        sofar.report.passes = passes;
+        settings.onPass(sofar);
+      }
+      break;
+    }
     if (timed && std::chrono::steady_clock::now() >= deadline) {
       timeUp = true;
       break;

@@ -36,6 +36,13 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   stats.entities = scene.entities.size();
   stats.lights = scene.lights.size();
   if (auto warning = aspectWarning(info, scene.camera)) stats.warnings.push_back(*warning);
+  // The edge lattice's points have no lens or time samples (render/
+  // tile_renderer_impl.h): such a camera takes the Sobol passes.
+  const bool lens = scene.camera.kind == CameraKind::Perspective && scene.camera.aperture > 0;
+  if (sampling.adaptiveSettings.latticeDepth > 0 && (lens || scene.motionSteps >= 2))
+    stats.warnings.push_back(std::string("--edge-lattice: the camera's ") +
+                             (lens ? "lens" : "open shutter") +
+                             " needs samples of its own; Sobol passes instead");
 
   t0 = std::chrono::steady_clock::now();
   images.load(scene);

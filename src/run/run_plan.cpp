@@ -90,6 +90,7 @@ std::vector<PlanSetting> RunPlan::settings() const {
       {"noise_threshold", number(a.noiseThreshold)},
       {"min_samples", std::to_string(a.minSamples)},
       {"max_samples", std::to_string(a.maxSamples)},
+      {"edge_lattice", std::to_string(a.latticeDepth), a.latticeDepth > 0},
       {"time_limit", number(a.timeLimit)},
       {"seed", std::to_string(frameSettings.seed)},
       {"light_sampling",

@@ -270,6 +270,25 @@ TEST_F(LrayCli, SamplingOptionsThatContradictEachOtherAreRefused) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("max samples = 10000000000000 exceeds the limit"), std::string::npos)
       << r.output;
+  r = runLray(base + "--edge-lattice 3");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--edge-lattice refines by the noise threshold"), std::string::npos)
+      << r.output;
+  r = runLray(base + "--noise-threshold 0.1 --min-samples 4 --edge-lattice 3");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("it takes --min-samples 1, not 4"), std::string::npos) << r.output;
+  r = runLray(base + "--noise-threshold 0.1 --integrator path --edge-lattice 3");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--edge-lattice applies to the Whitted integrator"), std::string::npos)
+      << r.output;
+  r = runLray(base + "--noise-threshold 0.1 --edge-lattice 5 -w 10000 -H 10000");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("lattice points a pixel = 108900000000 exceeds the limit"),
+            std::string::npos)
+      << r.output;
+  r = runLray(base + "--noise-threshold 0.1 --edge-lattice 6");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--edge-lattice"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "o" / "c0000.png"));
 }
 

@@ -35,6 +35,8 @@ const SettingPair kRenderSettings[] = {
     {"--noise-threshold", "", "--noise-threshold 0.05 --max-samples 8"},
     {"--min-samples", "--noise-threshold 0.05 --max-samples 8",
      "--noise-threshold 0.05 --max-samples 8 --min-samples 2"},
+    {"--edge-lattice", "--noise-threshold 0.05 --min-samples 1",
+     "--noise-threshold 0.05 --min-samples 1 --edge-lattice 2"},
     {"--max-samples", "--noise-threshold 0.001 --max-samples 8",
      "--noise-threshold 0.001 --max-samples 4"},
     {"--time-limit", "--noise-threshold 0.001 --max-samples 4",

@@ -109,6 +109,23 @@ template <class Integ> struct TileWork {
   static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
 
+/// Traces the camera rays work.rays[0, n) and shades them (their samplers
+/// work.samplers) into work.colors, a colour that is not finite counted
+/// (counts.nonFinite) and taken as black.
+template <class Accel, class Integ>
+void traceCameraRays(const Accel &accel, const Integ &integrator, TileWork<Integ> &work,
+                     size_t n, RayCounts &counts) {
+  accel.intersectCoherent(work.rays.data(), n, work.hits.data(), work.found.data());
+  counts.camera += n;
+  integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
+                       work.samplers.data(), n, work.colors.data(), counts);
+  for (size_t j = 0; j < n; ++j)
+    if (!isFinite(work.colors[j])) {
+      ++counts.nonFinite;
+      work.colors[j] = Color();
+    }
+}
+
 /// The pixels to render: settings.crop within the frame, or all of it.
 inline PixelWindow window(const FrameSettings &settings) {
   if (settings.crop.empty()) return {0, 0, settings.width, settings.height};
@@ -191,16 +208,9 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   });
   size_t rays = 0;
   auto trace = [&] {
-    accel.intersectCoherent(work.rays.data(), rays, work.hits.data(), work.found.data());
-    counts.camera += rays;
-    integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
-                         work.samplers.data(), rays, work.colors.data(), counts);
+    tile_detail::traceCameraRays(accel, integrator, work, rays, counts);
     for (size_t j = 0; j < rays; ++j) {
-      Color c = work.colors[j];
-      if (!isFinite(c)) {
-        ++counts.nonFinite;
-        c = Color();
-      }
+      const Color &c = work.colors[j];
       const size_t i = work.pixelOf[j];
       work.sums[i] += c;
       work.squares[i] += c * c;
@@ -293,18 +303,8 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
         work.samplers[j] =
             Sampler(Sampler::pixelKeyOf(frameKey, (y0 + q.j) * frameSide + x0 + q.i), 0);
       }
-      accel.intersectCoherent(work.rays.data(), n, work.hits.data(), work.found.data());
-      counts.camera += n;
-      integrator.shadeTile(work.rays.data(), work.hits.data(), work.found.data(),
-                           work.samplers.data(), n, work.colors.data(), counts);
-      for (size_t j = 0; j < n; ++j) {
-        Color c = work.colors[j];
-        if (!isFinite(c)) {
-          ++counts.nonFinite;
-          c = Color();
-        }
-        lattice.set(points[k + j], c);
-      }
+      tile_detail::traceCameraRays(accel, integrator, work, n, counts);
+      for (size_t j = 0; j < n; ++j) lattice.set(points[k + j], work.colors[j]);
     }
     if (!lattice.judge(settings.adaptiveSettings.noiseThreshold)) break;
   }

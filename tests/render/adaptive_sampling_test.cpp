@@ -7,6 +7,7 @@
 #include "math/owen_sobol.h"
 #include "render/pixel_error.h"
 #include "render/renderer.h"
+#include "render/render_films.h"
 #include "render/sample_buffer.h"
 #include "shading/image_cache.h"
 
@@ -80,23 +81,8 @@ FrameSettings adaptiveSettings(double threshold, int minSamples, int maxSamples,
   return fs;
 }
 
-Film render(const Scene &scene, const Accelerator &accel, const FrameSettings &fs,
-            RayCounts *countsOut = nullptr) {
-  ImageCache images(false);
-  RayCounts counts;
-  Film film = renderFrame(scene, accel, images, fs, counts);
-  if (countsOut) *countsOut = counts;
-  return film;
-}
-
-double rmse(const Film &a, const Film &b) {
-  double sum = 0;
-  for (size_t i = 0; i < a.data().size(); ++i) {
-    const double d = a.data()[i] - b.data()[i];
-    sum += d * d;
-  }
-  return std::sqrt(sum / static_cast<double>(a.data().size()));
-}
+using test::render;
+using test::rmse;
 
 class AdaptiveSampling : public ::testing::TestWithParam<BackendKind> {
 protected:

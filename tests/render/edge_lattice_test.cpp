@@ -7,6 +7,7 @@
 #include "render/backends.h"
 #include "render/pixel_lattice.h"
 #include "render/renderer.h"
+#include "render/render_films.h"
 #include "shading/image_cache.h"
 
 #include <gtest/gtest.h>
@@ -155,23 +156,8 @@ FrameSettings settings(int samples, double threshold = 0, int depth = 0, int max
   return fs;
 }
 
-Film render(const Scene &scene, const Accelerator &accel, const FrameSettings &fs,
-            RayCounts *counts = nullptr) {
-  ImageCache images(false);
-  RayCounts c;
-  Film film = renderFrame(scene, accel, images, fs, c);
-  if (counts) *counts = c;
-  return film;
-}
-
-double rmse(const Film &a, const Film &b) {
-  double sum = 0;
-  for (size_t i = 0; i < a.data().size(); ++i) {
-    const double d = a.data()[i] - b.data()[i];
-    sum += d * d;
-  }
-  return std::sqrt(sum / static_cast<double>(a.data().size()));
-}
+using test::render;
+using test::rmse;
 
 class EdgeLattice : public ::testing::TestWithParam<BackendKind> {
 protected:

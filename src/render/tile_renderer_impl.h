@@ -554,6 +554,14 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     }
     if (timeUp || cancelled || target >= maxSamples) break;
     if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
+    if (timed && std::chrono::steady_clock::now() >= deadline) {
+      timeUp = true;
+      break;
+    }
+    if (stopped()) {
+      cancelled = true;
+      break;
+    }
     if (lattice) {
       forEachTile<Integ>(
           settings, perThread, progress,
@@ -577,14 +585,6 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         sofar.report.passes = passes;
         settings.onPass(sofar);
       }
-      break;
-    }
-    if (timed && std::chrono::steady_clock::now() >= deadline) {
-      timeUp = true;
-      break;
-    }
-    if (stopped()) {
-      cancelled = true;
       break;
     }
     // Each pass adds half the samples taken so far (at least the first

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -230,6 +231,24 @@ TEST_P(EdgeLattice, SilhouettesReachALowerErrorThanSobolPassesWithFewerRays) {
     EXPECT_LT(error, last) << depth;
     last = error;
   }
+}
+
+TEST_P(EdgeLattice, CancelledOrOutOfTimeThePixelsKeepTheirCentres) {
+  const Film centres = render(scene, *accel, settings(1));
+  std::atomic<bool> cancel{true};
+  FrameSettings fs = settings(1, 0.002, 5);
+  fs.cancel = &cancel;
+  Film film = render(scene, *accel, fs);
+  EXPECT_TRUE(film.report.cancelled);
+  EXPECT_EQ(film.report.passes, 1);
+  EXPECT_EQ(film.data(), centres.data());
+  // A time limit that the centre pass already uses up: the same.
+  fs = settings(1, 0.002, 5);
+  fs.adaptiveSettings.timeLimit = 1e-9;
+  film = render(scene, *accel, fs);
+  EXPECT_TRUE(film.report.timeLimitHit);
+  EXPECT_EQ(film.report.passes, 1);
+  EXPECT_EQ(film.data(), centres.data());
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EdgeLattice,

@@ -503,6 +503,27 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
                                     std::chrono::duration<double>(timed ? adaptive.timeLimit : 0));
   std::atomic<bool> timeUp{false}, cancelled{false};
   int passes = 0;
+  // Whether a pass after the first leaves its next tile alone: the render
+  // was cancelled or its time is up (noted for the report).
+  auto haltsTile = [&] {
+    if (stopped()) {
+      cancelled = true;
+      return true;
+    }
+    if (timed && std::chrono::steady_clock::now() >= deadline) {
+      timeUp = true;
+      return true;
+    }
+    return false;
+  };
+  // The live preview: the image of the passes so far.
+  auto showPass = [&] {
+    if (!settings.onPass || cancelled) return;
+    Film sofar(settings.width, settings.height);
+    buffer.writeTo(sofar);
+    sofar.report.passes = passes;
+    settings.onPass(sofar);
+  };
   uint32_t target = minSamples; // maxSamples >= minSamples; 1: the centre-first pass
   for (int pass = 0;; ++pass) {
     forEachTile<Integ>(
@@ -510,16 +531,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
         [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
           if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
           // The first pass always completes: every pixel needs a value.
-          if (pass > 0) {
-            if (stopped()) {
-              cancelled = true;
-              return false;
-            }
-            if (timed && std::chrono::steady_clock::now() >= deadline) {
-              timeUp = true;
-              return false;
-            }
-          }
+          if (pass > 0 && haltsTile()) return false;
           if (centreFirst && pass == 0) {
             rect.forEachPixel([&](size_t i, int x, int y) {
               work.first[i] = buffer.active(x, y) ? 0 : 1;
@@ -546,12 +558,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           return true;
         });
     ++passes;
-    if (settings.onPass && !cancelled) {
-      Film sofar(settings.width, settings.height);
-      buffer.writeTo(sofar);
-      sofar.report.passes = passes;
-      settings.onPass(sofar);
-    }
+    showPass();
     if (timeUp || cancelled || target >= maxSamples) break;
     if (buffer.updateActive(adaptive.noiseThreshold, maxSamples) == 0) break;
     if (timed && std::chrono::steady_clock::now() >= deadline) {
@@ -566,25 +573,13 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
       forEachTile<Integ>(
           settings, perThread, progress,
           [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
-            if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
-            if (stopped()) {
-              cancelled = true;
+            if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1) || haltsTile())
               return false;
-            }
-            if (timed && std::chrono::steady_clock::now() >= deadline) {
-              timeUp = true;
-              return false;
-            }
             refineTile(accel, centreIntegrator, camera, settings, rect, buffer, work, local);
             return true;
           });
       ++passes;
-      if (settings.onPass && !cancelled) {
-        Film sofar(settings.width, settings.height);
-        buffer.writeTo(sofar);
-        sofar.report.passes = passes;
-        settings.onPass(sofar);
-      }
+      showPass();
       break;
     }
     // Each pass adds half the samples taken so far (at least the first

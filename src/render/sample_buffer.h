@@ -104,11 +104,9 @@ public:
     centreOnly_[i] = 0;
     refined_[i] = 1;
   }
-  /// A centre-only pixel's one sample.
-  Color centre(size_t i) const {
-    const float *s = &sums_[i * 3];
-    return {s[0], s[1], s[2]};
-  }
+  /// Pixel i's mean colour (it has samples; a centre-only pixel's, its
+  /// one sample).
+  Color mean(size_t i) const;
   uint32_t count(size_t i) const { return count_[i]; }
   bool active(size_t i) const {
     return active(static_cast<int>(i % static_cast<size_t>(width_)),
@@ -150,8 +148,6 @@ public:
   void moveTo(Film &film) &&;
 
 private:
-  /// Pixel i's mean colour (it has samples).
-  Color mean(size_t i) const;
   /// The variance of pixel i's mean, per channel (0 below two samples).
   Color variance(size_t i) const;
   /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel

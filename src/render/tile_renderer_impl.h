@@ -283,7 +283,7 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   rect.forEachPixel([&](size_t, int x, int y) {
     if (!buffer.active(x, y)) return;
     const size_t b = buffer.index(x, y);
-    const uint32_t p = lattice.add(x - rect.x0, y - rect.y0, buffer.centre(b));
+    const uint32_t p = lattice.add(x - rect.x0, y - rect.y0, buffer.mean(b));
     bufferIndex[p] = static_cast<uint32_t>(b);
   });
   // The frame's lattice: points (X, Y) = (x * cells + i, y * cells + j).

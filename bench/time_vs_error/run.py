@@ -72,7 +72,7 @@ LADDER = {
                    "0.06", "0.05", "0.04", "0.03", "0.025", "0.02", "0.01", "0.005"],
     # --edge-lattice 5: the thresholds (its cells' contrast times their
     # area: lower than the Sobol passes' for the same error)
-    "lattice_thresholds": ["0.3", "0.15", "0.07", "0.05", "0.035", "0.025", "0.017", "0.012",
+    "lattice_thresholds": ["1", "0.6", "0.3", "0.15", "0.07", "0.05", "0.035", "0.025", "0.017", "0.012",
                            "0.008", "0.005", "0.0035", "0.0025", "0.0017"],
     # time limits as fractions of the LRay reference's render time
     "time_fractions": [1 / 32, 1 / 16, 1 / 8, 1 / 4],
@@ -88,7 +88,7 @@ LADDER = {
 # against its own 16-rays-per-pixel fixed sampling (LRay -s 4 with every
 # light cell; POV-Ray +AM1 +R4, 4 x 4 rays and the centre ray).
 ADAPTIVE_BASE = {"lray": ("fixed-all", "4"), "povray": ("forced", "+R4")}
-ADAPTIVE_MODES = {"lray": ("adaptive", "adaptive-min1", "lattice"),
+ADAPTIVE_MODES = {"lray": ("adaptive", "adaptive-min1", "lattice", "sparse"),
                   "povray": ("adaptive",)}
 QUICK_LADDER = {
     "samples": [1, 2],
@@ -383,6 +383,14 @@ class Runner:
                         self.lray_row(scene, backend, "lattice", t,
                                       ["--noise-threshold", t, "--min-samples", "1",
                                        "--edge-lattice", "5"] + max_s + progressive, ref)
+                # The same with sparse centres: the centre-first pass fills
+                # the centres between traced ones that agree.
+                if "--sparse-centres" in self.flags and not a.min_samples:
+                    for t in ladder["lattice_thresholds"]:
+                        self.lray_row(scene, backend, "sparse", t,
+                                      ["--noise-threshold", t, "--min-samples", "1",
+                                       "--edge-lattice", "5", "--sparse-centres"] + max_s +
+                                      progressive, ref)
             else:
                 self.note("%s has no --noise-threshold/--max-samples: 'adaptive' skipped" % self.lray)
             if self.has("--time-limit"):
@@ -676,7 +684,8 @@ class Runner:
         rows_n = (n + cols - 1) // cols
         fig, axes = plt.subplots(rows_n, cols, figsize=(5.2 * cols, 4 * rows_n), squeeze=False)
         colours = {"fixed-all": "tab:blue", "fixed-spread": "tab:orange", "adaptive": "tab:green",
-                   "adaptive-min1": "tab:olive", "lattice": "tab:purple", "time": "tab:red"}
+                   "adaptive-min1": "tab:olive", "lattice": "tab:purple", "sparse": "tab:pink",
+                   "time": "tab:red"}
         styles = {"embree": "-", "kdtree": "--"}
         for ax, scene in zip(axes.flat, a.scenes):
             rows = [r for r in self.rows if r["scene"] == scene and math.isfinite(r["psnr"])

@@ -34,6 +34,10 @@ struct AdaptiveSettings {
   /// refined on a lattice of cells down to 2^-latticeDepth of a pixel wide
   /// (render/pixel_lattice.h) instead of by Sobol passes; 0: Sobol passes.
   int latticeDepth = 0;
+  /// --sparse-centres: the centre-first pass fills the centres between
+  /// traced ones that agree instead of tracing them
+  /// (render/sparse_centres.h).
+  bool sparseCentres = false;
 };
 
 /// A pixel rectangle [x0, x1) x [y0, y1) of a frame.

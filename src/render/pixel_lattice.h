@@ -59,20 +59,24 @@ public:
     pixelWords_ = ((cells_ + 1) * (cells_ + 1) + 63) / 64;
   }
   /// Adds the tile's pixel (x, y), whose centre sample is `centre` (a
-  /// lattice point, known); returns its index. The pixel is an open cell.
-  uint32_t add(int x, int y, const Color &centre) {
+  /// lattice point, known), or that has none (`traced` false: a centre
+  /// --sparse-centres filled, traced here only if the pixel is cut);
+  /// returns its index. The pixel is an open cell.
+  uint32_t add(int x, int y, const Color &centre, bool traced = true) {
     const uint32_t p = static_cast<uint32_t>(sums_.size());
     const uint16_t i = static_cast<uint16_t>(x * cells_), j = static_cast<uint16_t>(y * cells_);
     const uint16_t half = static_cast<uint16_t>(cells_ / 2);
-    const uint32_t c = slot(i + half, j + half);
-    values_[c] = Value::of(centre);
-    known_[c] = kKnown;
-    touched_.push_back(c);
     open_.push_back({p, i, j, static_cast<uint16_t>(cells_)});
     sums_.emplace_back();
     used_.resize(used_.size() + pixelWords_, 0);
-    use(p, half, half);
     origin_.push_back({i, j});
+    if (traced) {
+      const uint32_t c = slot(i + half, j + half);
+      values_[c] = Value::of(centre);
+      known_[c] = kKnown;
+      touched_.push_back(c);
+      use(p, half, half);
+    }
     return p;
   }
   uint32_t pixels() const { return static_cast<uint32_t>(sums_.size()); }

@@ -68,17 +68,20 @@ public:
     count_[i] += samples;
   }
   /// The centre-first pass: pixel i's one sample, through its centre (the
-  /// pixel has no samples yet). Its squares stay the 0 they start as, so
+  /// pixel has no samples yet), or filled from its neighbours' (`traced`
+  /// false: --sparse-centres). Its squares stay the 0 they start as, so
   /// the pages of a frame that stops at its centres are never written.
-  void setCentre(size_t i, const Color &c) {
+  void setCentre(size_t i, const Color &c, bool traced = true) {
     assert(count_[i] == 0);
     float *s = &sums_[i * 3];
     s[0] = static_cast<float>(c.r);
     s[1] = static_cast<float>(c.g);
     s[2] = static_cast<float>(c.b);
     count_[i] = 1;
-    centreOnly_[i] = 1;
+    centreOnly_[i] = traced ? kTracedCentre : kFilledCentre;
   }
+  /// Whether pixel i's one sample is a centre --sparse-centres filled.
+  bool filled(size_t i) const { return centreOnly_[i] == kFilledCentre; }
   /// A pixel that has only its centre sample drops it before its Sobol
   /// samples (which then form the pixel's whole, stratified set): returns
   /// whether it did.
@@ -183,7 +186,9 @@ private:
   /// neither active_ nor activeList_ says so.
   bool wholeRegionActive_ = true;
   std::vector<uint32_t> activeList_; ///< the indices of the active pixels
-  ZeroedVector<uint8_t> centreOnly_; ///< the pixel's one sample is its centre
+  /// The pixel's one sample is its centre (traced or filled), else 0.
+  ZeroedVector<uint8_t> centreOnly_;
+  static constexpr uint8_t kTracedCentre = 1, kFilledCentre = 2;
   /// The pixel was refined on its edge lattice: its squares were never
   /// written (its estimate is their 0).
   ZeroedVector<uint8_t> refined_;

@@ -11,6 +11,7 @@
 #include "render/pixel_error.h"
 #include "render/pixel_lattice.h"
 #include "render/sample_buffer.h"
+#include "render/sparse_centres.h"
 #include "render/tile_renderer.h"
 #include "shading/integrator_impl.h"
 
@@ -283,7 +284,7 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   rect.forEachPixel([&](size_t, int x, int y) {
     if (!buffer.active(x, y)) return;
     const size_t b = buffer.index(x, y);
-    const uint32_t p = lattice.add(x - rect.x0, y - rect.y0, buffer.mean(b));
+    const uint32_t p = lattice.add(x - rect.x0, y - rect.y0, buffer.mean(b), !buffer.filled(b));
     bufferIndex[p] = static_cast<uint32_t>(b);
   });
   // The frame's lattice: points (X, Y) = (x * cells + i, y * cells + j).
@@ -310,6 +311,44 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   }
   for (uint32_t p = 0; p < lattice.pixels(); ++p)
     buffer.setRefined(bufferIndex[p], lattice.colour(p), lattice.points(p));
+}
+
+/// The centre-first pass of a tile with --sparse-centres
+/// (render/sparse_centres.h): the centres it traces, round by round, each
+/// the ray and sample stream the plain centre-first pass gives it (so a
+/// traced centre, and a centre just past the tile traced for its
+/// neighbours, is the same as there); every pixel's centre, traced or
+/// filled, goes to the buffer.
+template <class Accel, class Integ>
+void sparseCentreTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
+                      const FrameSettings &settings, const tile_detail::TileRect &rect,
+                      SampleBuffer &buffer, tile_detail::TileWork<Integ> &work,
+                      RayCounts &counts) {
+  static thread_local SparseCentres sparse;
+  static thread_local std::vector<SparseCentres::Point> points;
+  const uint64_t key = Sampler::frameKey(settings.stream());
+  sparse.reset(rect.width(), rect.y1 - rect.y0, rect.x1 < settings.width ? 1 : 0,
+               rect.y1 < settings.height ? 1 : 0);
+  const double threshold = settings.adaptiveSettings.noiseThreshold;
+  for (;;) {
+    points.clear();
+    if (!sparse.next(threshold, points)) break;
+    for (size_t k = 0; k < points.size(); k += tile_detail::kTilePixels) {
+      const size_t n = std::min<size_t>(tile_detail::kTilePixels, points.size() - k);
+      for (size_t j = 0; j < n; ++j) {
+        const int x = rect.x0 + points[k + j].x, y = rect.y0 + points[k + j].y;
+        work.rays[j] = camera.generate(x + 0.5, y + 0.5);
+        const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
+        work.samplers[j] = Sampler(Sampler::pixelKeyOf(key, pixel), 0);
+      }
+      tile_detail::traceCameraRays(accel, integrator, work, n, counts);
+      for (size_t j = 0; j < n; ++j) sparse.set(points[k + j], work.colors[j]);
+    }
+  }
+  rect.forEachPixel([&](size_t, int x, int y) {
+    const int lx = x - rect.x0, ly = y - rect.y0;
+    buffer.setCentre(buffer.index(x, y), sparse.colour(lx, ly), sparse.traced(lx, ly));
+  });
 }
 
 /// Fills the film's depth, normal and albedo layers: a 4 x 4 grid of camera
@@ -477,6 +516,11 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   const bool lattice = centreFirst && adaptive.latticeDepth > 0 &&
                        settings.integrator == IntegratorKind::Whitted && !camera.hasLens() &&
                        !camera.timed();
+  // --sparse-centres: the centre-first pass fills the centres between
+  // traced ones that agree; not for a lens or an open shutter either.
+  const bool sparse = centreFirst && adaptive.sparseCentres && adaptive.noiseThreshold > 0 &&
+                      settings.integrator == IntegratorKind::Whitted && !camera.hasLens() &&
+                      !camera.timed();
 
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
@@ -532,7 +576,9 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
           // The first pass always completes: every pixel needs a value.
           if (pass > 0 && haltsTile()) return false;
-          if (centreFirst && pass == 0) {
+          if (centreFirst && pass == 0 && sparse) {
+            sparseCentreTile(accel, centreIntegrator, camera, settings, rect, buffer, work, local);
+          } else if (centreFirst && pass == 0) {
             rect.forEachPixel([&](size_t i, int x, int y) {
               work.first[i] = buffer.active(x, y) ? 0 : 1;
             });

@@ -43,6 +43,10 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
     stats.warnings.push_back(std::string("--edge-lattice: the camera's ") +
                              (lens ? "lens" : "open shutter") +
                              " needs samples of its own; Sobol passes instead");
+  if (sampling.adaptiveSettings.sparseCentres && (lens || scene.motionSteps >= 2))
+    stats.warnings.push_back(std::string("--sparse-centres: the camera's ") +
+                             (lens ? "lens" : "open shutter") +
+                             " needs samples of its own; every centre traced instead");
 
   t0 = std::chrono::steady_clock::now();
   images.load(scene);

@@ -42,6 +42,7 @@ struct Options {
   std::optional<double> clamp;                ///< --clamp: path samples' largest component
   std::optional<int> minSamples, maxSamples;  ///< adaptive: per pixel
   std::optional<int> latticeDepth;            ///< --edge-lattice: 0 (Sobol) or 1 to 6
+  bool sparseCentres = false;                 ///< --sparse-centres
   double timeLimit = 0;                       ///< seconds per frame; 0: none
   uint32_t seed = 0;                          ///< the random stream's seed
   std::optional<LightSampling> lightSampling; ///< default: all (fixed), spread (adaptive)

@@ -75,12 +75,14 @@ std::string toJson(const RunStats &s) {
   out += fmt::format(
       "  \"sampling\": {{\"mode\": \"{}\", \"light_sampling\": \"{}\", \"noise_threshold\": "
       "{:.6g}, "
-      "\"min_samples\": {}, \"max_samples\": {}, \"edge_lattice\": {}, \"time_limit\": {:.6g}, "
+      "\"min_samples\": {}, \"max_samples\": {}, \"edge_lattice\": {}, \"sparse_centres\": {}, "
+      "\"time_limit\": {:.6g}, "
       "\"seed\": {}}},\n",
       s.sampling.adaptive ? "adaptive" : "fixed",
       s.sampling.lightSampling == LightSampling::Spread ? "spread" : "all",
       s.sampling.adaptive ? a.noiseThreshold : 0.0, s.sampling.adaptive ? a.minSamples : 0,
       s.sampling.adaptive ? a.maxSamples : 0, s.sampling.adaptive ? a.latticeDepth : 0,
+      s.sampling.adaptive && a.sparseCentres,
       s.sampling.adaptive ? a.timeLimit : 0.0, s.sampling.seed);
   if (!s.settings.empty()) out += fmt::format("  \"settings\": {},\n", s.settings);
   const double pixels =

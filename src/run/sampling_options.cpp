@@ -60,6 +60,11 @@ public:
                  "Sobol; best for opaque surfaces under point lights)")
         ->type_name("DEPTH")
         ->check(CLI::Range(0, 5));
+    g.add_flag("--sparse-centres", o.sparseCentres,
+               "Adaptive sampling, centre first: trace every other pixel centre of every other "
+               "row, and fill each centre between traced ones that agree with their mean "
+               "(more are filled the higher the noise threshold; for quick, low-quality "
+               "frames)");
     g.add_option("--time-limit", o.timeLimit,
                  "Render each frame progressively for at most SECONDS, then write the best "
                  "image so far")
@@ -182,6 +187,21 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
                                    *options.minSamples));
     if (info.integrator == "path")
       throw SceneError("--edge-lattice applies to the Whitted integrator, not to --integrator "
+                       "path");
+    a.minSamples = 1;
+  }
+  a.sparseCentres = options.sparseCentres;
+  if (a.sparseCentres) {
+    // The centres are filled by the noise threshold, and a filled centre
+    // stands for the pixel's one sample, which the path tracer's are not.
+    if (threshold <= 0)
+      throw SceneError("--sparse-centres fills by the noise threshold: give --noise-threshold");
+    if (options.minSamples.value_or(1) != 1)
+      throw SceneError(fmt::format("--sparse-centres is a centre-first pass: it takes "
+                                   "--min-samples 1, not {}",
+                                   *options.minSamples));
+    if (info.integrator == "path")
+      throw SceneError("--sparse-centres applies to the Whitted integrator, not to --integrator "
                        "path");
     a.minSamples = 1;
   }

@@ -284,6 +284,12 @@ TEST_F(LrayCli, SamplingOptionsThatContradictEachOtherAreRefused) {
   refused("--noise-threshold 0.1 --edge-lattice 5 -w 10000 -H 10000", 1,
           "lattice points a pixel = 108900000000 exceeds the limit");
   refused("--noise-threshold 0.1 --edge-lattice 6", 2, "--edge-lattice");
+  // And the sparse centres'.
+  refused("--sparse-centres", 1, "--sparse-centres fills by the noise threshold");
+  refused("--noise-threshold 0.1 --min-samples 4 --sparse-centres", 1,
+          "--sparse-centres is a centre-first pass: it takes --min-samples 1, not 4");
+  refused("--noise-threshold 0.1 --integrator path --sparse-centres", 1,
+          "--sparse-centres applies to the Whitted integrator");
   EXPECT_FALSE(fs::exists(dir_ / "o" / "c0000.png"));
 }
 

@@ -8,6 +8,7 @@
 #include "render/pixel_lattice.h"
 #include "render/renderer.h"
 #include "render/render_films.h"
+#include "render/silhouette_scene.h"
 #include "shading/image_cache.h"
 
 #include <gtest/gtest.h>
@@ -109,36 +110,6 @@ TEST(PixelLattice, RandomEdgesConvergeFasterThanTheirRays) {
   EXPECT_GT(rate, 1.3) << error[0] << " " << error[1] << " " << rays[0] << " " << rays[1];
 }
 
-/// A bright disc (a sphere lit from the camera) on a dark background, and
-/// a smaller one behind it: silhouettes and shading, no area light.
-Scene silhouetteScene() {
-  Scene s;
-  Pigment p;
-  p.pattern = ColorPigment{Color(0.9, 0.8, 0.3)};
-  s.pigments.push_back(p);
-  Finish f;
-  f.specular = 0.3;
-  f.exponent = 10;
-  s.textures.push_back({f, 0});
-  for (int k = 0; k < 2; ++k) {
-    Entity e;
-    e.shape = Sphere{};
-    e.worldFromObject = k == 0 ? Transform::translate({-0.4, 0.1, 0})
-                               : Transform::translate({0.9, -0.3, 2}) *
-                                     Transform::scale(0.7, 0.7, 0.7);
-    e.texture = 0;
-    s.entities.push_back(e);
-  }
-  Light light;
-  light.worldFromLight = Transform::translate({-1, 2, -5});
-  s.lights.push_back(light);
-  s.background = {0.02, 0.02, 0.05};
-  s.camera.fov = 50;
-  s.camera.aspect = 1.5;
-  s.camera.worldFromCamera = Transform::lookAt({0, 0, -5}, {0, 0, 0}, {0, 1, 0});
-  return s;
-}
-
 constexpr int kWidth = 48, kHeight = 32;
 
 FrameSettings settings(int samples, double threshold = 0, int depth = 0, int maxSamples = 256) {
@@ -162,7 +133,7 @@ using test::rmse;
 
 class EdgeLattice : public ::testing::TestWithParam<BackendKind> {
 protected:
-  Scene scene = silhouetteScene();
+  Scene scene = test::silhouetteScene();
   std::unique_ptr<Accelerator> accel = makeAccelerator(GetParam(), scene);
 };
 

@@ -37,6 +37,8 @@ const SettingPair kRenderSettings[] = {
      "--noise-threshold 0.05 --max-samples 8 --min-samples 2"},
     {"--edge-lattice", "--noise-threshold 0.05 --min-samples 1",
      "--noise-threshold 0.05 --min-samples 1 --edge-lattice 2"},
+    {"--sparse-centres", "--noise-threshold 0.5 --min-samples 1",
+     "--noise-threshold 0.5 --min-samples 1 --sparse-centres"},
     {"--max-samples", "--noise-threshold 0.001 --max-samples 8",
      "--noise-threshold 0.001 --max-samples 4"},
     {"--time-limit", "--noise-threshold 0.001 --max-samples 4",

@@ -106,12 +106,11 @@ public:
   }
 
   /// Judges the open cells, whose corners are known: one whose points'
-  /// contrast (below) times its area reaches `threshold` is cut into four,
-  /// open for the next round (unless it is a finest cell); another adds its
-  /// share to its pixel's colour. Returns whether any cell is open.
+  /// contrast (contrastOf, below) times its area reaches `threshold` is
+  /// cut into four, open for the next round (unless it is a finest cell);
+  /// another adds its share to its pixel's colour. Returns whether any
+  /// cell is open.
   bool judge(double threshold);
-  /// A cell's measure: see its definition.
-  static double contrast(const Color *points, int n);
 
   /// Pixel p's colour, once no cell is open, and the lattice points it
   /// rests on (its centre among them; a point on the side of two pixels
@@ -156,13 +155,14 @@ private:
   size_t pixelWords_ = 1;
 };
 
-/// The contrast of a cell's n points (2 to 5): half the sum over the
-/// channels of their range, over the square root of their mean brightness;
-/// for two points, centrePairContrast.
-inline double PixelLattice::contrast(const Color *points, int n) {
-  Color lo = points[0], hi = points[0], sum = points[0];
+/// The contrast of n points (2 to 5), point(k) for k < n: half the sum
+/// over the channels of their range, over the square root of their mean
+/// brightness; for two points, centrePairContrast. (`point` reads them
+/// where they lie: a copy of them would be zeroed first.)
+template <class Point> double contrastOf(int n, const Point &point) {
+  Color lo = point(0), hi = lo, sum = lo;
   for (int k = 1; k < n; ++k) {
-    const Color &p = points[k];
+    const Color &p = point(k);
     lo = {std::min(lo.r, p.r), std::min(lo.g, p.g), std::min(lo.b, p.b)};
     hi = {std::max(hi.r, p.r), std::max(hi.g, p.g), std::max(hi.b, p.b)};
     sum += p;
@@ -177,29 +177,29 @@ inline bool PixelLattice::judge(double threshold) {
   next_.clear();
   const double finest = 1.0 / (static_cast<double>(cells_) * cells_);
   for (const Cell &c : open_) {
-    Color points[5];
+    uint32_t at[5]; // the slots of the cell's points
     int n = 0;
     for (int k = 0; k < 4; ++k)
-      points[n++] =
-          values_[slot(c.i + (k & 1 ? c.size : 0), c.j + (k & 2 ? c.size : 0))].colour();
+      at[n++] = slot(c.i + (k & 1 ? c.size : 0), c.j + (k & 2 ? c.size : 0));
     const uint16_t half = c.size / 2;
     // The centre is known for the whole pixel (the centre-first pass).
     if (c.size > 1 && known_[slot(c.i + half, c.j + half)] == kKnown)
-      points[n++] = values_[slot(c.i + half, c.j + half)].colour();
+      at[n++] = slot(c.i + half, c.j + half);
+    auto point = [&](int k) { return values_[at[k]].colour(); };
     // Cut where the points' contrast times the cell's area (in pixels)
     // reaches the threshold: about the most the cell's detail can move its
     // pixel. A cell costs about as many rays at any size, so the deeper
     // ones are cut only for the stronger edges.
     const double width = static_cast<double>(c.size) / cells_;
     const double least = threshold / (width * width);
-    if (c.size > 1 && contrast(points, n) >= least) {
+    if (c.size > 1 && contrastOf(n, point) >= least) {
       for (int k = 0; k < 4; ++k)
         next_.push_back({c.pixel, static_cast<uint16_t>(c.i + (k & 1 ? half : 0)),
                          static_cast<uint16_t>(c.j + (k & 2 ? half : 0)), half});
       continue;
     }
     Color mean;
-    for (int k = 0; k < n; ++k) mean += points[k];
+    for (int k = 0; k < n; ++k) mean += point(k);
     sums_[c.pixel] += mean * (static_cast<double>(c.size) * c.size * finest / n);
   }
   open_.swap(next_);

@@ -56,8 +56,9 @@ public:
   /// even rows of the window; 1 and 2: the pixels of that round whose
   /// neighbours differ, the others filled with their mean), after
   /// set() has given the last round's colours. A pixel is filled where its
-  /// neighbours' contrast (PixelLattice::contrast) times the area between
-  /// them (in pixels) stays below kFillShare of the noise `threshold`.
+  /// neighbours' contrast (contrastOf, render/pixel_lattice.h) times the
+  /// area between them (in pixels) stays below kFillShare of the noise
+  /// `threshold`.
   /// Returns false once every pixel of the tile is known.
   bool next(double threshold, std::vector<Point> &out);
   void set(const Point &p, const Color &c) {
@@ -87,16 +88,18 @@ private:
 
 inline void SparseCentres::fillOrTrace(int x, int y, const int (*d)[2], int least, double area,
                                        double threshold, std::vector<Point> &out) {
-  Color points[4], known[4];
-  bool present[4];
+  int at[4];    // the slots of the known neighbours, in d's order
+  int slots[4]; // per offset, its neighbour's slot, or -1
   int n = 0;
   for (int k = 0; k < 4; ++k) {
     const int nx = x + d[k][0], ny = y + d[k][1];
-    present[k] = nx >= 0 && ny >= 0 && nx < spanX_ && ny < spanY_ &&
-                 state_[slot(nx, ny)] != kUnknown;
-    if (present[k]) known[k] = points[n++] = value_[slot(nx, ny)];
+    const bool known = nx >= 0 && ny >= 0 && nx < spanX_ && ny < spanY_ &&
+                       state_[slot(nx, ny)] != kUnknown;
+    slots[k] = known ? slot(nx, ny) : -1;
+    if (known) at[n++] = slots[k];
   }
-  const double contrast = n >= least ? PixelLattice::contrast(points, n) : 1e300;
+  const double contrast =
+      n >= least ? contrastOf(n, [&](int k) -> const Color & { return value_[at[k]]; }) : 1e300;
   if (contrast * area >= kFillShare * threshold) {
     out.push_back({static_cast<uint8_t>(x), static_cast<uint8_t>(y)});
     return;
@@ -105,13 +108,13 @@ inline void SparseCentres::fillOrTrace(int x, int y, const int (*d)[2], int leas
   // exactly its colour); others the mean of the opposite pairs (d[0] and
   // d[3], d[1] and d[2]) whose both ends are known, which a linear ramp
   // fills exactly.
-  Color mean = points[0];
+  Color mean = value_[at[0]];
   if (contrast > 0) {
     mean = Color();
     int pairs = 0;
     for (int k = 0; k < 2; ++k)
-      if (present[k] && present[3 - k]) {
-        mean += known[k] + known[3 - k];
+      if (slots[k] >= 0 && slots[3 - k] >= 0) {
+        mean += value_[slots[k]] + value_[slots[3 - k]];
         ++pairs;
       }
     mean = mean / (2.0 * pairs);

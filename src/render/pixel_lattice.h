@@ -159,7 +159,8 @@ private:
 /// over the channels of their range, over the square root of their mean
 /// brightness; for two points, centrePairContrast. (`point` reads them
 /// where they lie: a copy of them would be zeroed first.)
-template <class Point> double contrastOf(int n, const Point &point) {
+template <class Point>
+[[gnu::always_inline]] inline double contrastOf(int n, const Point &point) {
   Color lo = point(0), hi = lo, sum = lo;
   for (int k = 1; k < n; ++k) {
     const Color &p = point(k);

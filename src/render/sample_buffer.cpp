@@ -110,17 +110,18 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
   // time, and both passes run by rows in parallel.
   const size_t pixels = count_.size();
   std::vector<uint8_t> pairs(pixels), edges(pixels);
-  // Whether pixels i and j hold the same sums, bit for bit, and count:
-  // the same colour, no edge either way.
-  auto same = [&](size_t i, size_t j) {
+  // Whether pixels i and j hold the same sums, bit for bit, and count
+  // (differs: 0 if so): the same colour, no edge either way.
+  auto differs = [&](size_t i, size_t j) {
     uint64_t a, b;
     uint32_t c, d;
     std::memcpy(&a, &sums_[i * 3], sizeof a);
     std::memcpy(&b, &sums_[j * 3], sizeof b);
     std::memcpy(&c, &sums_[i * 3 + 2], sizeof c);
     std::memcpy(&d, &sums_[j * 3 + 2], sizeof d);
-    return ((a ^ b) | (c ^ d) | (count_[i] ^ count_[j])) == 0;
+    return (a ^ b) | (c ^ d) | (count_[i] ^ count_[j]);
   };
+  auto same = [&](size_t i, size_t j) { return differs(i, j) == 0; };
   // Whether any channel is negative (or -0): its sign bit.
   uint32_t signs = 0;
   for (const float v : sums_) signs |= std::bit_cast<uint32_t>(v);
@@ -128,9 +129,16 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
   const size_t w = static_cast<size_t>(width_);
   tbb::parallel_for(0, height_, [&](int y) {
     setFlushToZero();
+    // Inside the frame (every neighbour there), first whether the pixel's
+    // four pairs are all plain, without a branch per pair: most of a frame.
+    const bool inner = y + 1 < height_;
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       if (!count_[i]) continue;
+      if (inner && x > 0 && x + 1 < width_ &&
+          (differs(i, i + 1) | differs(i, i + w - 1) | differs(i, i + w) |
+           differs(i, i + w + 1)) == 0)
+        continue;
       const bool right = x + 1 < width_, down = y + 1 < height_;
       // The pixel's pairs (CentrePair order) without an edge: no neighbour
       // there, or one of the same colour. Most of a frame has only those.

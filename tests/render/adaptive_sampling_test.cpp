@@ -12,7 +12,6 @@
 #include "shading/image_cache.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cmath>
@@ -93,14 +92,8 @@ protected:
 TEST_P(AdaptiveSampling, SameBytesSamplesAndEstimatesForAnyThreadCount) {
   for (int minSamples : {4, 1}) { // 1: the centre-first pass
     const FrameSettings fs = adaptiveSettings(0.02, minSamples, 64);
-    Film one = [&] {
-      tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
-      return render(scene, *accel, fs);
-    }();
-    Film many = [&] {
-      tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
-      return render(scene, *accel, fs);
-    }();
+    const Film one = test::renderOnThreads(scene, *accel, fs, 1);
+    const Film many = test::renderOnThreads(scene, *accel, fs, 4);
     EXPECT_EQ(one.data(), many.data()) << minSamples;
     EXPECT_EQ(one.estimateData(), many.estimateData()) << minSamples;
     EXPECT_EQ(one.report.samples, many.report.samples) << minSamples;

@@ -12,7 +12,6 @@
 #include "shading/image_cache.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <atomic>
 #include <cmath>
@@ -114,45 +113,29 @@ constexpr int kWidth = 48, kHeight = 32;
 
 FrameSettings settings(int samples, double threshold = 0, int depth = 0, int maxSamples = 256) {
   FrameSettings fs;
+  if (threshold > 0) {
+    fs = test::centreFirstSettings(kWidth, kHeight, threshold, maxSamples);
+    fs.adaptiveSettings.latticeDepth = depth;
+  }
   fs.width = kWidth;
   fs.height = kHeight;
   fs.samples = samples;
-  if (threshold > 0) {
-    fs.adaptive = true;
-    fs.lightSampling = LightSampling::Spread;
-    fs.adaptiveSettings.noiseThreshold = threshold;
-    fs.adaptiveSettings.minSamples = 1;
-    fs.adaptiveSettings.maxSamples = maxSamples;
-    fs.adaptiveSettings.latticeDepth = depth;
-  }
   return fs;
 }
 
 using test::render;
 using test::rmse;
 
-class EdgeLattice : public ::testing::TestWithParam<BackendKind> {
-protected:
-  Scene scene = test::silhouetteScene();
-  std::unique_ptr<Accelerator> accel = makeAccelerator(GetParam(), scene);
-};
+class EdgeLattice : public test::SilhouetteRender {};
 
 TEST_P(EdgeLattice, SameBytesForAnyThreadCountAndOnBothBackends) {
   const FrameSettings fs = settings(1, 0.002, 5);
-  Film one = [&] {
-    tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
-    return render(scene, *accel, fs);
-  }();
-  Film many = [&] {
-    tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
-    return render(scene, *accel, fs);
-  }();
+  const Film one = test::renderOnThreads(scene, *accel, fs, 1);
+  const Film many = test::renderOnThreads(scene, *accel, fs, 4);
   EXPECT_EQ(one.data(), many.data());
   EXPECT_EQ(one.report.samples, many.report.samples);
   EXPECT_EQ(one.report.passes, 2); // the centres, then the lattices
-  const BackendKind other =
-      GetParam() == BackendKind::Embree ? BackendKind::KdTree : BackendKind::Embree;
-  EXPECT_EQ(render(scene, *makeAccelerator(other, scene), fs).data(), one.data());
+  EXPECT_EQ(render(scene, *makeAccelerator(otherBackend(), scene), fs).data(), one.data());
 }
 
 TEST_P(EdgeLattice, FlatPixelsKeepTheirCentreAndEdgesAreRefined) {
@@ -175,15 +158,7 @@ TEST_P(EdgeLattice, FlatPixelsKeepTheirCentreAndEdgesAreRefined) {
   EXPECT_GT(refined, 20);
 }
 
-TEST_P(EdgeLattice, ACropIsTheFramesPixels) {
-  FrameSettings fs = settings(1, 0.002, 5);
-  const Film frame = render(scene, *accel, fs);
-  fs.crop = {13, 7, 37, 25};
-  const Film crop = render(scene, *accel, fs);
-  for (int y = fs.crop.y0; y < fs.crop.y1; ++y)
-    for (int x = fs.crop.x0; x < fs.crop.x1; ++x)
-      ASSERT_EQ(crop.get(x, y), frame.get(x, y)) << x << "," << y;
-}
+TEST_P(EdgeLattice, ACropIsTheFramesPixels) { expectCropIsTheFramesPixels(settings(1, 0.002, 5)); }
 
 TEST_P(EdgeLattice, SilhouettesReachALowerErrorThanSobolPassesWithFewerRays) {
   const Film reference = render(scene, *accel, settings(32));

@@ -5,6 +5,8 @@
 #include "render/renderer.h"
 #include "shading/image_cache.h"
 
+#include <tbb/global_control.h>
+
 #include <cmath>
 
 namespace lray::test {
@@ -17,6 +19,30 @@ inline Film render(const Scene &scene, const Accelerator &accel, const FrameSett
   Film film = renderFrame(scene, accel, images, fs, c);
   if (counts) *counts = c;
   return film;
+}
+
+/// render with at most `threads` threads (for a frame that must come out the
+/// same bytes for any thread count).
+inline Film renderOnThreads(const Scene &scene, const Accelerator &accel, const FrameSettings &fs,
+                            int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                            static_cast<size_t>(threads));
+  return render(scene, accel, fs);
+}
+
+/// Adaptive sampling from the centre-first pass (--min-samples 1) to
+/// `threshold`, at most `maxSamples` a pixel, light cells spread.
+inline FrameSettings centreFirstSettings(int width, int height, double threshold,
+                                         int maxSamples) {
+  FrameSettings fs;
+  fs.width = width;
+  fs.height = height;
+  fs.adaptive = true;
+  fs.lightSampling = LightSampling::Spread;
+  fs.adaptiveSettings.noiseThreshold = threshold;
+  fs.adaptiveSettings.minSamples = 1;
+  fs.adaptiveSettings.maxSamples = maxSamples;
+  return fs;
 }
 
 /// The RMSE between two films' colours, over every channel of every pixel.

@@ -1,8 +1,14 @@
 // Test helper for the render tests: a small scene of silhouettes and
-// smooth shading on a flat background.
+// smooth shading on a flat background, and a fixture rendering it.
 #pragma once
 
+#include "render/backends.h"
+#include "render/render_films.h"
 #include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
 
 namespace lray::test {
 
@@ -35,5 +41,25 @@ inline Scene silhouetteScene() {
   s.camera.worldFromCamera = Transform::lookAt({0, 0, -5}, {0, 0, 0}, {0, 1, 0});
   return s;
 }
+
+/// The render tests' fixture: the silhouette scene on one backend (the
+/// parameter), and the other backend's kind.
+class SilhouetteRender : public ::testing::TestWithParam<BackendKind> {
+protected:
+  Scene scene = silhouetteScene();
+  std::unique_ptr<Accelerator> accel = makeAccelerator(GetParam(), scene);
+  static BackendKind otherBackend() {
+    return GetParam() == BackendKind::Embree ? BackendKind::KdTree : BackendKind::Embree;
+  }
+  /// Expects a crop of the frame `fs` renders to hold the frame's pixels.
+  void expectCropIsTheFramesPixels(FrameSettings fs) {
+    const Film frame = render(scene, *accel, fs);
+    fs.crop = {13, 7, 37, 25};
+    const Film crop = render(scene, *accel, fs);
+    for (int y = fs.crop.y0; y < fs.crop.y1; ++y)
+      for (int x = fs.crop.x0; x < fs.crop.x1; ++x)
+        ASSERT_EQ(crop.get(x, y), frame.get(x, y)) << x << "," << y;
+  }
+};
 
 } // namespace lray::test

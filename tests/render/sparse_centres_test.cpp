@@ -10,7 +10,6 @@
 #include "render/sparse_centres.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <functional>
 #include <set>
@@ -145,14 +144,7 @@ TEST(SparseCentres, APixelWithAFilledCentreTakesItsCornersAlone) {
 constexpr int kWidth = 48, kHeight = 32;
 
 FrameSettings settings(double threshold, bool sparse, int depth = 0) {
-  FrameSettings fs;
-  fs.width = kWidth;
-  fs.height = kHeight;
-  fs.adaptive = true;
-  fs.lightSampling = LightSampling::Spread;
-  fs.adaptiveSettings.noiseThreshold = threshold;
-  fs.adaptiveSettings.minSamples = 1;
-  fs.adaptiveSettings.maxSamples = 64;
+  FrameSettings fs = test::centreFirstSettings(kWidth, kHeight, threshold, 64);
   fs.adaptiveSettings.latticeDepth = depth;
   fs.adaptiveSettings.sparseCentres = sparse;
   return fs;
@@ -161,38 +153,21 @@ FrameSettings settings(double threshold, bool sparse, int depth = 0) {
 using test::render;
 using test::rmse;
 
-class SparseCentresRender : public ::testing::TestWithParam<BackendKind> {
-protected:
-  Scene scene = test::silhouetteScene();
-  std::unique_ptr<Accelerator> accel = makeAccelerator(GetParam(), scene);
-};
+class SparseCentresRender : public test::SilhouetteRender {};
 
 TEST_P(SparseCentresRender, SameBytesForAnyThreadCountAndOnBothBackends) {
   for (int depth : {0, 4}) {
     const FrameSettings fs = settings(0.05, true, depth);
-    Film one = [&] {
-      tbb::global_control only(tbb::global_control::max_allowed_parallelism, 1);
-      return render(scene, *accel, fs);
-    }();
-    Film many = [&] {
-      tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
-      return render(scene, *accel, fs);
-    }();
+    const Film one = test::renderOnThreads(scene, *accel, fs, 1);
+    const Film many = test::renderOnThreads(scene, *accel, fs, 4);
     EXPECT_EQ(one.data(), many.data()) << depth;
-    const BackendKind other =
-        GetParam() == BackendKind::Embree ? BackendKind::KdTree : BackendKind::Embree;
-    EXPECT_EQ(render(scene, *makeAccelerator(other, scene), fs).data(), one.data()) << depth;
+    EXPECT_EQ(render(scene, *makeAccelerator(otherBackend(), scene), fs).data(), one.data())
+        << depth;
   }
 }
 
 TEST_P(SparseCentresRender, ACropIsTheFramesPixels) {
-  FrameSettings fs = settings(0.05, true, 4);
-  const Film frame = render(scene, *accel, fs);
-  fs.crop = {13, 7, 37, 25};
-  const Film crop = render(scene, *accel, fs);
-  for (int y = fs.crop.y0; y < fs.crop.y1; ++y)
-    for (int x = fs.crop.x0; x < fs.crop.x1; ++x)
-      ASSERT_EQ(crop.get(x, y), frame.get(x, y)) << x << "," << y;
+  expectCropIsTheFramesPixels(settings(0.05, true, 4));
 }
 
 TEST_P(SparseCentresRender, FewerCameraRaysAtTheSameError) {

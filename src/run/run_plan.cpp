@@ -91,7 +91,7 @@ std::vector<PlanSetting> RunPlan::settings() const {
       {"min_samples", std::to_string(a.minSamples)},
       {"max_samples", std::to_string(a.maxSamples)},
       {"edge_lattice", std::to_string(a.latticeDepth), a.latticeDepth > 0},
-      {"sparse_centres", "true", a.sparseCentres},
+      {"sparse_centres", a.sparseCentres ? "true" : "false", a.sparseCentres},
       {"time_limit", number(a.timeLimit)},
       {"seed", std::to_string(frameSettings.seed)},
       {"light_sampling",

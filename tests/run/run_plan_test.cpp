@@ -182,6 +182,8 @@ TEST_F(RunPlanTest, StatsCarryThePlansSettings) {
             std::string::npos)
       << json;
   EXPECT_NE(json.find(R"("seed":5,)"), std::string::npos) << json;
+  // Off is off: a setting's JSON is its value, whether it counts or not.
+  EXPECT_NE(json.find(R"("edge_lattice":0,"sparse_centres":false,)"), std::string::npos) << json;
 }
 
 } // namespace

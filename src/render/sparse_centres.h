@@ -7,9 +7,9 @@
 // of them traced, two from the first round). A pixel whose neighbours
 // differ is traced. Where the picture is smooth (a plain background, a
 // slowly shaded surface) three centres in four cost no ray; an edge or a
-// texture's detail is traced as before. What it misses: detail smaller than
-// a pixel that falls between traced centres, as any one-ray-a-pixel render
-// misses detail between its centres.
+// texture's detail is traced as before. What it misses: a line thinner than
+// two pixels that falls between traced centres of one colour (which every
+// centre would have seen), hence the small share of the threshold below.
 #pragma once
 
 #include "math/color.h"

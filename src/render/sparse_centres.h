@@ -36,8 +36,8 @@ public:
   /// its area lets it be filled: a small one, because a filled centre can
   /// be wrong in ways its neighbours do not show (a thin line between
   /// them). At 0.03 the bench scenes' error is unchanged at thresholds 1 to
-  /// 0.3 while two centres in five or more are filled (bench/README.md);
-  /// at 0.1 a distant checkerboard's aliasing shows.
+  /// 0.3 while a third to two thirds of the centres are filled
+  /// (bench/README.md); at 0.1 a distant checkerboard's aliasing shows.
   static constexpr double kFillShare = 0.03;
 
   /// Starts the tile of `width` x `height` pixels (at most kSide each)

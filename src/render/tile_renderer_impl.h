@@ -509,18 +509,18 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     allCells.emplace(scene, accel, images,
                      IntegratorOptions{1, settings.shadowSkips, settings.maxDepth, settings.clamp});
   const Integ &centreIntegrator = allCells ? *allCells : integrator;
+  // The centre-first pass's options, for the Whitted integrator and not
+  // for a lens or an open shutter: a lattice point or a filled centre has
+  // no lens or time sample of its own (lua/README.md says so).
+  const bool pinholeCentres = centreFirst && settings.integrator == IntegratorKind::Whitted &&
+                              !camera.hasLens() && !camera.timed();
   // --edge-lattice: the pixels the centre-first pass flags are refined on
   // their lattices, shaded as the centres are (every light cell), in one
-  // more pass. Not for a lens or an open shutter: a lattice point has no
-  // lens or time sample of its own (lua/README.md says so).
-  const bool lattice = centreFirst && adaptive.latticeDepth > 0 &&
-                       settings.integrator == IntegratorKind::Whitted && !camera.hasLens() &&
-                       !camera.timed();
+  // more pass.
+  const bool lattice = pinholeCentres && adaptive.latticeDepth > 0;
   // --sparse-centres: the centre-first pass fills the centres between
-  // traced ones that agree; not for a lens or an open shutter either.
-  const bool sparse = centreFirst && adaptive.sparseCentres && adaptive.noiseThreshold > 0 &&
-                      settings.integrator == IntegratorKind::Whitted && !camera.hasLens() &&
-                      !camera.timed();
+  // traced ones that agree.
+  const bool sparse = pinholeCentres && adaptive.sparseCentres && adaptive.noiseThreshold > 0;
 
   // A cropped render samples a margin around the window: a pixel's
   // neighbours decide whether it takes the next pass, so the missing
@@ -576,7 +576,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
           if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
           // The first pass always completes: every pixel needs a value.
           if (pass > 0 && haltsTile()) return false;
-          if (centreFirst && pass == 0 && sparse) {
+          if (pass == 0 && sparse) {
             sparseCentreTile(accel, centreIntegrator, camera, settings, rect, buffer, work, local);
           } else if (centreFirst && pass == 0) {
             rect.forEachPixel([&](size_t i, int x, int y) {

@@ -6,10 +6,12 @@
 #include "run/scene_motion.h"
 #include "scene/scene_checks.h"
 #include "shading/image_cache.h"
-#include "render/backends.h"
+
+#include <fmt/format.h>
 
 #include <chrono>
 #include <memory>
+#include <tuple>
 
 namespace lray {
 
@@ -36,17 +38,19 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   stats.entities = scene.entities.size();
   stats.lights = scene.lights.size();
   if (auto warning = aspectWarning(info, scene.camera)) stats.warnings.push_back(*warning);
-  // The edge lattice's points have no lens or time samples (render/
-  // tile_renderer_impl.h): such a camera takes the Sobol passes.
+  // The edge lattice's points and the sparse centres' fills have no lens
+  // or time samples (render/tile_renderer_impl.h): such a camera takes the
+  // Sobol passes, and every centre.
   const bool lens = scene.camera.kind == CameraKind::Perspective && scene.camera.aperture > 0;
-  if (sampling.adaptiveSettings.latticeDepth > 0 && (lens || scene.motionSteps >= 2))
-    stats.warnings.push_back(std::string("--edge-lattice: the camera's ") +
-                             (lens ? "lens" : "open shutter") +
-                             " needs samples of its own; Sobol passes instead");
-  if (sampling.adaptiveSettings.sparseCentres && (lens || scene.motionSteps >= 2))
-    stats.warnings.push_back(std::string("--sparse-centres: the camera's ") +
-                             (lens ? "lens" : "open shutter") +
-                             " needs samples of its own; every centre traced instead");
+  if (lens || scene.motionSteps >= 2) {
+    const AdaptiveSettings &a = sampling.adaptiveSettings;
+    for (const auto &[on, flag, instead] :
+         {std::tuple{a.latticeDepth > 0, "--edge-lattice", "Sobol passes instead"},
+          std::tuple{a.sparseCentres, "--sparse-centres", "every centre traced instead"}})
+      if (on)
+        stats.warnings.push_back(fmt::format("{}: the camera's {} needs samples of its own; {}",
+                                             flag, lens ? "lens" : "open shutter", instead));
+  }
 
   t0 = std::chrono::steady_clock::now();
   images.load(scene);

@@ -174,37 +174,30 @@ FrameSettings samplingSettings(const SceneInfo &info, const Options &options) {
   // sampling: tile_renderer_impl.h), so it is even; 1 is the centre-first
   // pass.
   if (a.minSamples > 1 && a.minSamples % 2 && a.minSamples < a.maxSamples) ++a.minSamples;
+  // The options of the centre-first pass: each works by the noise
+  // threshold, from the pixel centres (min samples 1, which it implies),
+  // and shades its points once each with every light cell, which the path
+  // tracer's paths are not. `byThreshold` and `fromCentres` say how.
+  auto centreFirstOption = [&](const char *flag, const char *byThreshold,
+                               const char *fromCentres) {
+    if (threshold <= 0)
+      throw SceneError(fmt::format("{} {}: give --noise-threshold", flag, byThreshold));
+    if (options.minSamples.value_or(1) != 1)
+      throw SceneError(fmt::format("{} {}: it takes --min-samples 1, not {}", flag, fromCentres,
+                                   *options.minSamples));
+    if (info.integrator == "path")
+      throw SceneError(fmt::format(
+          "{} applies to the Whitted integrator, not to --integrator path", flag));
+    a.minSamples = 1;
+  };
   a.latticeDepth = options.latticeDepth.value_or(0);
-  if (a.latticeDepth > 0) {
-    // The lattice refines what the centre-first pass flags, judging its
-    // cells by the noise threshold; its points are shaded once each, with
-    // every light cell, which the path tracer's paths are not.
-    if (threshold <= 0)
-      throw SceneError("--edge-lattice refines by the noise threshold: give --noise-threshold");
-    if (options.minSamples.value_or(1) != 1)
-      throw SceneError(fmt::format("--edge-lattice starts from the pixel centres: it takes "
-                                   "--min-samples 1, not {}",
-                                   *options.minSamples));
-    if (info.integrator == "path")
-      throw SceneError("--edge-lattice applies to the Whitted integrator, not to --integrator "
-                       "path");
-    a.minSamples = 1;
-  }
+  if (a.latticeDepth > 0)
+    centreFirstOption("--edge-lattice", "refines by the noise threshold",
+                      "starts from the pixel centres");
   a.sparseCentres = options.sparseCentres;
-  if (a.sparseCentres) {
-    // The centres are filled by the noise threshold, and a filled centre
-    // stands for the pixel's one sample, which the path tracer's are not.
-    if (threshold <= 0)
-      throw SceneError("--sparse-centres fills by the noise threshold: give --noise-threshold");
-    if (options.minSamples.value_or(1) != 1)
-      throw SceneError(fmt::format("--sparse-centres is a centre-first pass: it takes "
-                                   "--min-samples 1, not {}",
-                                   *options.minSamples));
-    if (info.integrator == "path")
-      throw SceneError("--sparse-centres applies to the Whitted integrator, not to --integrator "
-                       "path");
-    a.minSamples = 1;
-  }
+  if (a.sparseCentres)
+    centreFirstOption("--sparse-centres", "fills by the noise threshold",
+                      "is a centre-first pass");
   s.aovs = options.aovs;
   s.seed = options.seed;
   s.integrator = info.integrator == "path" ? IntegratorKind::Path : IntegratorKind::Whitted;

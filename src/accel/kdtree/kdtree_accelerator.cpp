@@ -210,7 +210,11 @@ template <bool AnyHit, KdRays Rays>
 [[gnu::always_inline]] inline bool KdTreeAccelerator::intersectMesh(const Instance &inst,
                                                                     const Ray &ray, double &tBest,
                                                                     MeshHit &hit) const {
-  const Ray objectRay = objectRayOf(inst, ray);
+  // An identity-placed mesh (most are) reads the world ray where it lies: a
+  // copy's 16-byte stores read back as 32-byte loads stall store forwarding.
+  Ray placed;
+  if (inst.transform != kIdentity) placed = objectRayOf(inst, ray);
+  const Ray &objectRay = inst.transform == kIdentity ? ray : placed;
   const WatertightRay wray(objectRay);
   const MeshTree &mt = meshTrees_[inst.meshTree];
   if (mt.motion)
@@ -483,29 +487,47 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
 
 void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hits,
                                           uint8_t *found) const {
-  if (!usePackets_) {
-    for (size_t i = 0; i < count; ++i)
-      found[i] = intersectRay<KdRays::Coherent>(rays[i], hits[i]) ? 1 : 0;
-    return;
-  }
-  for (size_t first = 0; first < count; first += kRays) {
-    const int n = static_cast<int>(std::min<size_t>(kRays, count - first));
-    const Ray *packet = rays + first;
-    double tMax[kRays] = {};
-    PacketFinds finds;
-    finds.shapeHits = hits + first;
-    for (int i = 0; i < n; ++i) tMax[i] = packet[i].tMax;
-    const uint32_t hitLanes = packetQuery<false>(packet, (1u << n) - 1, tMax, &finds);
-    for (int i = 0; i < n; ++i) {
-      Hit &hit = hits[first + i];
-      found[first + i] = static_cast<uint8_t>(hitLanes >> i & 1u);
-      if (!(hitLanes >> i & 1u)) continue;
-      if (!(finds.triangleLanes >> i & 1u)) continue;
-      const TriangleCandidate &best = finds.triangles[i];
+  // The mesh hits of a run of rays are filled together once their walks are
+  // done: fillTriangleHits fills identity-placed ones several at a time in
+  // SIMD lanes (the same Hits, bit for bit, as one at a time), as Embree's
+  // coherent query does.
+  constexpr size_t kChunk = 8 * kRays;
+  TriangleHitQuery queries[kChunk];
+  for (size_t chunk = 0; chunk < count; chunk += kChunk) {
+    const size_t chunkEnd = std::min(count, chunk + kChunk);
+    size_t nq = 0;
+    auto addQuery = [&](const TriangleCandidate &best, double t, size_t r) {
       const uint32_t triangle = meshTrees_[best.meshTree].tree.primIndices()[best.mesh.ref];
-      fillTriangleHit(scene_.entities[best.entity], best.entity, triangle, tMax[i], best.mesh.b1,
-                      best.mesh.b2, packet[i], frameOrigin_, hit);
+      queries[nq++] = {&scene_.entities[best.entity], best.entity, triangle, t, best.mesh.b1,
+                       best.mesh.b2, &rays[r], &hits[r]};
+    };
+    if (!usePackets_) {
+      for (size_t r = chunk; r < chunkEnd; ++r) {
+        TriangleCandidate best;
+        bool bestIsTriangle = false;
+        double tMax = rays[r].tMax;
+        found[r] =
+            nearestBounded<KdRays::Coherent>(rays[r], hits[r], best, bestIsTriangle, tMax) ? 1
+                                                                                          : 0;
+        if (found[r] && bestIsTriangle) addQuery(best, tMax, r);
+      }
+    } else {
+      for (size_t first = chunk; first < chunkEnd; first += kRays) {
+        const int n = static_cast<int>(std::min<size_t>(kRays, chunkEnd - first));
+        const Ray *packet = rays + first;
+        double tMax[kRays] = {};
+        PacketFinds finds;
+        finds.shapeHits = hits + first;
+        for (int i = 0; i < n; ++i) tMax[i] = packet[i].tMax;
+        const uint32_t hitLanes = packetQuery<false>(packet, (1u << n) - 1, tMax, &finds);
+        for (int i = 0; i < n; ++i) {
+          found[first + i] = static_cast<uint8_t>(hitLanes >> i & 1u);
+          if (hitLanes >> i & finds.triangleLanes >> i & 1u)
+            addQuery(finds.triangles[i], tMax[i], first + i);
+        }
+      }
     }
+    fillTriangleHits(queries, nq, frameOrigin_);
   }
   if (!unbounded_.empty())
     for (size_t i = 0; i < count; ++i) found[i] = unbounded_.intersect(rays[i], hits[i], found[i]);

@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -92,6 +93,11 @@ int run(const Options &opt) {
   int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                   static_cast<size_t>(threads));
+  // TBB's one-time set-up (its scheduler's library search, the CPU
+  // count) now, before the script: left to the first parallel loop it
+  // fell inside the first frame's render time unless a backend (Embree's
+  // device) had already paid it.
+  tbb::task_arena().initialize();
 
   auto t0 = std::chrono::steady_clock::now();
   setActivity("loading the scene");

@@ -137,13 +137,14 @@ public:
   /// padded to the build's leafAlignment.
   std::span<const uint32_t> primIndices() const { return primIndices_; }
 
+  /// Relative slack on ray/plane parameters: every cell decision is widened
+  /// by it, so rounding in t can never drop a cell the ray truly touches
+  /// (no misses through vertices or edges lying on split planes).
+  static constexpr double kSlack = 1e-9;
+
 private:
   friend class KdTreeBuilder;
 
-  // Relative slack on ray/plane parameters: every cell decision is widened
-  // by it, so rounding in t can never drop a cell the ray truly touches
-  // (no misses through vertices or edges lying on split planes).
-  static constexpr double kSlack = 1e-9;
   // "Ordinary" rays, whose direction components all lie within
   // [kOrdinaryMin, kOrdinaryMax] in magnitude and whose origin's lie below
   // kOrdinaryMax, take the descent by the side of each plane on which the

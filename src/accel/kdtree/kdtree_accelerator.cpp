@@ -191,6 +191,7 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
     return b;
   });
   usePackets_ = usePackets_ || top_.nodes().size() >= kPacketMinNodes;
+  if (instances_.size() > 1) flat_ = FlatInstances(topBounds);
 
   stats_.buildSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -352,6 +353,7 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
   };
   // One entity: the top-level tree would only clip the ray to its bounds.
   // Several: an entity met again in a later top-level leaf is skipped.
+  if (!flat_.empty()) return flat_.forEachCrossed<false>(ray, tMax, testInstance);
   Mailbox mailbox;
   return instances_.size() == 1
              ? testInstance(0, tMax)
@@ -388,6 +390,7 @@ template <KdRays Rays>
     return intersectMesh<true, Rays>(inst, ray, tObject, unused);
   };
   double tMax = ray.tMax;
+  if (!flat_.empty()) return flat_.forEachCrossed<true>(ray, tMax, testInstance);
   Mailbox mailbox;
   return instances_.size() == 1
              ? testInstance(0, tMax)

@@ -10,6 +10,7 @@
 #include "accel/accelerator.h"
 #include "accel/moving_boxes.h"
 #include "accel/unbounded_shapes.h"
+#include "accel/kdtree/flat_instances.h"
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"
 #include "geometry/shape.h"
@@ -157,6 +158,9 @@ private:
   /// Planes: outside both levels, tested after them (closest) or before
   /// them (any hit).
   UnboundedShapes unbounded_;
+  /// The top level as a list where the scene has few bounded entities
+  /// (single rays; packets walk top_).
+  FlatInstances flat_;
   /// Moving entities' bounds at each motion step: a ray's test at its time.
   MovingBoxes moving_;
   /// objectFromWorld of each transformed mesh instance.

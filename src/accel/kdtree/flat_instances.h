@@ -10,8 +10,10 @@
 #include "math/bounds.h"
 #include "math/ray.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace lray {
@@ -27,6 +29,14 @@ public:
     if (boxes.size() > kMaxInstances) return;
     boxes_ = boxes;
     for (const Bounds3 &b : boxes) all_.extend(b);
+    groups_.resize((boxes.size() + kLanes - 1) / kLanes);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      Group &g = groups_[i / kLanes];
+      for (int a = 0; a < 3; ++a) {
+        g.lo[a][i % kLanes] = boxes[i].lo[a];
+        g.hi[a][i % kLanes] = boxes[i].hi[a];
+      }
+    }
   }
   bool empty() const { return boxes_.empty(); }
 
@@ -40,8 +50,26 @@ public:
     // Rays that miss every box (the background) are told by one test.
     if (!crosses(all_, o, d, invD, ray.tMin, tBest)) return false;
     bool hit = false;
-    for (uint32_t i = 0; i < boxes_.size(); ++i) {
-      if (!crosses(boxes_[i], o, d, invD, ray.tMin, tBest)) continue;
+    if (d[0] == 0 || d[1] == 0 || d[2] == 0) { // a parallel axis: box by box
+      for (uint32_t i = 0; i < boxes_.size(); ++i) {
+        if (!crosses(boxes_[i], o, d, invD, ray.tMin, tBest)) continue;
+        if (test(i, tBest)) {
+          hit = true;
+          if (AnyHit) return true;
+        }
+      }
+      return hit;
+    }
+    // Every box's entry t at once; a box is tested while its entry lies
+    // before its exit and the nearest hit so far.
+    alignas(32) double enter[kMaxInstances];
+    uint32_t crossed = 0;
+    for (size_t g = 0; g < groups_.size(); ++g)
+      crossed |= entries(groups_[g], o, invD, ray.tMin, tBest, enter + kLanes * g) << kLanes * g;
+    crossed &= (1u << boxes_.size()) - 1;
+    for (; crossed != 0; crossed &= crossed - 1) {
+      const uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
+      if (!(enter[i] <= tBest)) continue;
       if (test(i, tBest)) {
         hit = true;
         if (AnyHit) return true;
@@ -51,6 +79,14 @@ public:
   }
 
 private:
+  static constexpr int kLanes = 4;
+  using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
+  using Mask = int64_t __attribute__((vector_size(kLanes * sizeof(int64_t))));
+  /// Four boxes, axis by axis (lanes past the last box stay empty).
+  struct Group {
+    Lanes lo[3] = {}, hi[3] = {};
+  };
+
   /// KdTree::clipToBounds' slab test (the same slack), on one box.
   [[gnu::always_inline]] static bool crosses(const Bounds3 &box, const double (&o)[3],
                                              const double (&d)[3], const double (&invD)[3],
@@ -71,7 +107,39 @@ private:
     return true;
   }
 
+  /// crosses() for a group's four boxes, lane by lane with the same
+  /// operations (no direction component is 0 here): bit k set where box k
+  /// is crossed; its entry t in enter[k].
+  [[gnu::always_inline]] static uint32_t entries(const Group &g, const double (&o)[3],
+                                                 const double (&invD)[3], double tMin,
+                                                 double tMax, double *enter) {
+    Lanes tEnter = Lanes{} + tMin, tExit = Lanes{} + tMax;
+    for (int a = 0; a < 3; ++a) {
+      const Lanes tLo = (g.lo[a] - o[a]) * invD[a], tHi = (g.hi[a] - o[a]) * invD[a];
+      const Mask swap = tLo > tHi;
+      const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
+      const Lanes nearSlack = tNear - abs(tNear) * KdTree::kSlack;
+      const Lanes farSlack = tFar + abs(tFar) * KdTree::kSlack;
+      tEnter = tEnter < nearSlack ? nearSlack : tEnter; // std::max
+      tExit = farSlack < tExit ? farSlack : tExit;      // std::min
+    }
+    std::memcpy(enter, &tEnter, sizeof tEnter);
+    const Mask in = tEnter <= tExit;
+    uint32_t bits = 0;
+    for (int k = 0; k < kLanes; ++k) bits |= static_cast<uint32_t>(in[k] != 0) << k;
+    return bits;
+  }
+  /// std::fabs lane-wise: the sign bit cleared.
+  [[gnu::always_inline]] static Lanes abs(Lanes v) {
+    Mask bits;
+    std::memcpy(&bits, &v, sizeof v);
+    bits &= ~(Mask{} + INT64_MIN);
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+
   std::vector<Bounds3> boxes_;
+  std::vector<Group> groups_;
   Bounds3 all_; ///< their union
 };
 

@@ -166,6 +166,47 @@ TEST(KdTreeAccelerator, CoherentBatchMatchesSingleRaysBitForBit) {
   EXPECT_GT(kinds[2], 100);
 }
 
+// A scene of few entities is tested as a list of boxes (flat_instances.h),
+// a larger one walks the top-level tree: the mixed scene with spheres far
+// beyond the rays' reach added past the list's limit must give the same
+// hits and shadows, bit for bit, single and in batches.
+TEST(KdTreeAccelerator, FewEntitiesAsAListMatchTheTreeWalk) {
+  Scene few = mixedScene(), many = mixedScene();
+  ASSERT_LE(few.entities.size(), FlatInstances::kMaxInstances);
+  while (many.entities.size() <= FlatInstances::kMaxInstances)
+    many.entities.push_back(shape(
+        ShapeKind::Sphere, Transform::translate({200, 10.0 * many.entities.size(), 0})));
+  KdTreeAccelerator list(few), tree(many);
+  Rng rng(8);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 2000; ++i) {
+    Vec3 o = rng.inBox({-8, -8, -8}, {8, 8, 8});
+    rays.push_back({o, rng.inBox({-4, -4, -1}, {5, 4, 1}) - o});
+    rays.back().tMax = i % 4 == 0 ? rng.uniform(0, 1.2) : 3; // short of the far spheres
+  }
+  int hits = 0;
+  for (const Ray &ray : rays) {
+    Hit a, b;
+    const bool fa = list.intersect(ray, a);
+    ASSERT_EQ(fa, tree.intersect(ray, b));
+    EXPECT_EQ(list.occluded(ray), tree.occluded(ray));
+    if (!fa) continue;
+    ++hits;
+    testing::expectSameHit(a, b);
+  }
+  EXPECT_GT(hits, 500);
+  std::vector<Hit> batchA(rays.size()), batchB(rays.size());
+  std::vector<uint8_t> foundA(rays.size()), foundB(rays.size());
+  list.intersectCoherent(rays.data(), rays.size(), batchA.data(), foundA.data());
+  tree.intersectCoherent(rays.data(), rays.size(), batchB.data(), foundB.data());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(foundA[i], foundB[i]) << i;
+    if (foundA[i]) {
+      testing::expectSameHit(batchA[i], batchB[i]);
+    }
+  }
+}
+
 // Packets (a scene with a large mesh): intersectCoherent and
 // occludedCoherent must agree with single rays field for field, for a
 // camera's tiles (rays in rows of 16, as the renderer issues them), the

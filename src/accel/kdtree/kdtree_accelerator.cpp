@@ -229,6 +229,14 @@ template <bool AnyHit, KdRays Rays>
                                 : PrefilterRay();
   return withRayAxis(wray.kz, [&](auto axis) __attribute__((always_inline)) {
     constexpr int kz = decltype(axis)::value;
+    // A tree of one leaf (a floor's two triangles): the walk would only
+    // clip the ray to its box (the ray set-up's three divisions) before the
+    // leaf's test, and a ray the test hits crosses the box.
+    if (mt.tree.nodes().size() == 1) {
+      const KdNode &leaf = mt.tree.nodes()[0];
+      return leaf.primCount() > 0 && testMeshLeaf<AnyHit, kz>(mt, wray, fray, leaf.primOffset(),
+                                                              leaf.primCount(), tBest, hit);
+    }
     return mt.tree.traverseLeaves<AnyHit, Rays>(
         objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {
           return testMeshLeaf<AnyHit, kz>(mt, wray, fray, offset, count, tTri, hit);

@@ -150,12 +150,14 @@ public:
   /// counts, instead of copies of them.
   void moveTo(Film &film) &&;
 
+  /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel
+  /// without samples), the pairs of neighbours taken once (updateActive's
+  /// first verdicts after the centre-first pass; public for tests).
+  std::vector<uint8_t> centreEdges(double threshold) const;
+
 private:
   /// The variance of pixel i's mean, per channel (0 below two samples).
   Color variance(size_t i) const;
-  /// Per pixel, whether centreContrast(i) >= threshold (0 for a pixel
-  /// without samples), the pairs of neighbours taken once.
-  std::vector<uint8_t> centreEdges(double threshold) const;
   /// Pixel i's verdict: not converged (below maxSamples, and an error of
   /// threshold or more, or `edge` for a pixel of only its centre).
   bool isNoisy(size_t i, double threshold, uint32_t maxSamples, bool edge) const;

@@ -15,8 +15,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <set>
+#include <string>
 
 namespace lray {
 namespace {
@@ -566,6 +568,45 @@ TEST(SampleBuffer, CentreContrastIsTheLargestAgainstANeighbour) {
   EXPECT_EQ(flat.updateActive(1e-9, 100), 0u);
 }
 
+// After the centre-first pass of `colours` (a w x h frame), each pixel
+// is active where centreContrast says it or most of its neighbours are
+// noisy at `threshold`; cropped: in a region short of the frame's borders.
+void expectCentreVerdicts(const std::vector<Color> &colours, int w, int h, double threshold,
+                          bool cropped) {
+  // A region short of the frame's borders, as for a cropped render.
+  SampleBuffer buffer = cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2)
+                                : SampleBuffer(w, h);
+  std::vector<uint32_t> active;
+  for (size_t i = 0; i < colours.size(); ++i)
+    if (buffer.active(i)) {
+      active.push_back(static_cast<uint32_t>(i));
+      buffer.setCentre(i, colours[i]);
+    }
+  const SampleBuffer reference = buffer;
+  buffer.updateActive(threshold, 100);
+  std::vector<uint8_t> noisy(colours.size());
+  for (uint32_t i : active) noisy[i] = reference.centreContrast(i) >= threshold;
+  int edges = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = buffer.index(x, y);
+      // Its own verdict, or those of most of its neighbours.
+      int neighbours = 0, noisyNeighbours = 0;
+      for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
+        for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx) {
+          if (nx == x && ny == y) continue;
+          ++neighbours;
+          noisyNeighbours += noisy[buffer.index(nx, ny)];
+        }
+      const bool expected =
+          reference.active(i) && (noisy[i] || 2 * noisyNeighbours > neighbours);
+      edges += noisy[i];
+      EXPECT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
+    }
+  EXPECT_GT(edges, 0) << threshold;
+  EXPECT_LT(edges, static_cast<int>(active.size())) << threshold;
+}
+
 // The verdicts after the centre-first pass take each pair of neighbours
 // once, and settle most pairs without their estimate; they must be
 // centreContrast's, pixel by pixel: at the frame's borders, beside pixels
@@ -587,40 +628,6 @@ TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
           block[(y / 3) * (w / 4 + 1) + x / 4] * 0.08f + (shade(rng) == 0 ? jitter(rng) : 0.f);
       frame.emplace_back(v, v * 0.5f, shade(rng) == 0 && v > 0.2f ? 1.f : v);
     }
-  auto check = [&](const std::vector<Color> &colours, double threshold, bool cropped) {
-    // A region short of the frame's borders, as for a cropped render.
-    SampleBuffer buffer = cropped ? SampleBuffer(w, h, SampleSet::Stratified, 2, 1, w - 3, h - 2)
-                                  : SampleBuffer(w, h);
-    std::vector<uint32_t> active;
-    for (size_t i = 0; i < colours.size(); ++i)
-      if (buffer.active(i)) {
-        active.push_back(static_cast<uint32_t>(i));
-        buffer.setCentre(i, colours[i]);
-      }
-    const SampleBuffer reference = buffer;
-    buffer.updateActive(threshold, 100);
-    std::vector<uint8_t> noisy(colours.size());
-    for (uint32_t i : active) noisy[i] = reference.centreContrast(i) >= threshold;
-    int edges = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = buffer.index(x, y);
-        // Its own verdict, or those of most of its neighbours.
-        int neighbours = 0, noisyNeighbours = 0;
-        for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
-          for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx) {
-            if (nx == x && ny == y) continue;
-            ++neighbours;
-            noisyNeighbours += noisy[buffer.index(nx, ny)];
-          }
-        const bool expected =
-            reference.active(i) && (noisy[i] || 2 * noisyNeighbours > neighbours);
-        edges += noisy[i];
-        EXPECT_EQ(buffer.active(i), expected) << x << "," << y << " at " << threshold;
-      }
-    EXPECT_GT(edges, 0) << threshold;
-    EXPECT_LT(edges, static_cast<int>(active.size())) << threshold;
-  };
   // The estimate of the first two neighbours that differ, as a threshold.
   double met = 0;
   for (size_t i = 0; i + 1 < frame.size() && met == 0; ++i)
@@ -630,8 +637,8 @@ TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
   negative[w * 8 + 11].g = -0.05;
   for (const double threshold : {0.02, 0.1, 0.3, met})
     for (const bool cropped : {false, true}) {
-      check(frame, threshold, cropped);
-      check(negative, threshold, cropped);
+      expectCentreVerdicts(frame, w, h, threshold, cropped);
+      expectCentreVerdicts(negative, w, h, threshold, cropped);
     }
   // Channels that cancel: summed from the left pixel on, the pair's
   // brightness is 0.5 (estimate 0.70); from the right one, 0.005 (7.0).
@@ -641,6 +648,33 @@ TEST(SampleBuffer, CentreVerdictsAreEachPixelsOwn) {
   EXPECT_LT(cancelling.centreContrast(0), 1);
   EXPECT_GT(cancelling.centreContrast(1), 1);
   EXPECT_EQ(cancelling.updateActive(1, 100), 2u);
+}
+
+// Runs of alike pixels (a background) are settled a run at a time: one
+// pixel that differs, anywhere in or beside a run, in its row or the rows
+// next to it, or a row unlike the one below it, must still leave every
+// pixel its own verdict.
+TEST(SampleBuffer, CentreVerdictsOfAlikeRunsAreEachPixelsOwn) {
+  const int w = 53, h = 4;
+  const Color background(0.2f, 0.3f, 0.4f), other(0.9f, 0.3f, 0.4f);
+  auto expectOwn = [&](const std::function<Color(int, int)> &colourAt, const char *what) {
+    SampleBuffer buffer(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) buffer.setCentre(buffer.index(x, y), colourAt(x, y));
+    const std::vector<uint8_t> edges = buffer.centreEdges(0.1);
+    int count = 0;
+    for (size_t i = 0; i < edges.size(); ++i) {
+      EXPECT_EQ(edges[i], buffer.centreContrast(i) >= 0.1) << "pixel " << i << ", " << what;
+      count += edges[i];
+    }
+    EXPECT_GE(count, 4) << what; // the pixels on either side
+  };
+  for (int odd = 0; odd < w * h; ++odd)
+    expectOwn([&](int x, int y) { return y * w + x == odd ? other : background; },
+              ("one pixel unlike the rest: " + std::to_string(odd)).c_str());
+  for (int row = 1; row < h; ++row)
+    expectOwn([&](int, int y) { return y < row ? background : other; },
+              ("rows unlike from " + std::to_string(row)).c_str());
 }
 
 TEST(SampleBuffer, VarianceOfABrightPixelSurvivesFloatSums) {

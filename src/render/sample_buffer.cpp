@@ -321,7 +321,12 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
     setFlushToZero();
     for (int x = r.x0; x < r.x1; ++x) {
       const size_t i = index(x, y);
-      noisy[i] = isNoisy(i, threshold, maxSamples, noisy[i] != 0);
+      // isNoisy of a pixel of only its centre at a threshold above 0 (with
+      // centres): its edge verdict, below maxSamples; inlined, as most of
+      // such a frame is so.
+      noisy[i] = centres && centreOnly_[i]
+                     ? noisy[i] != 0 && count_[i] < maxSamples
+                     : isNoisy(i, threshold, maxSamples, noisy[i] != 0);
     }
   });
   setActiveAround(noisy, centres, maxSamples);

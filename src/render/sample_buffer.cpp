@@ -101,6 +101,45 @@ inline unsigned pairVerdicts(const Color &c, const Color &d, double threshold,
   return contrast >= threshold ? 3 : 0;
 }
 
+/// For pixels x0 to x1 - 1 of a row inside the frame (rows y and y + 1 of
+/// sums `s0`, `s1` and counts `n0`, `n1`; 0 < x0 < x1 < the width):
+/// quiet[x] = 1 where pixel x and the four neighbours of its pairs hold one
+/// sample each and every pair's colours differ by less than pairVerdicts'
+/// first test lets through, so that the pixel's pair bits are 0 in a frame
+/// without negative channels. The same operations as pairVerdicts, lane by
+/// lane in a loop the compiler vectorises: a shaded floor, where no two
+/// neighbours are alike, is settled without a branch per pair.
+void quietPixels(const float *s0, const float *s1, const uint32_t *n0, const uint32_t *n1, int x0,
+                 int x1, double threshold, std::vector<double> &scratch, uint8_t *quiet) {
+  // The colours of columns x0 - 1 to x1, channel by channel.
+  const int n = x1 - x0 + 2;
+  scratch.resize(6 * static_cast<size_t>(n));
+  double *r0 = scratch.data(), *g0 = r0 + n, *b0 = g0 + n, *r1 = b0 + n, *g1 = r1 + n,
+         *b1 = g1 + n;
+  for (int k = 0; k < n; ++k) {
+    const int x = x0 - 1 + k;
+    r0[k] = s0[3 * x], g0[k] = s0[3 * x + 1], b0[k] = s0[3 * x + 2];
+    r1[k] = s1[3 * x], g1[k] = s1[3 * x + 1], b1[k] = s1[3 * x + 2];
+  }
+  const double limit = 0.98 * threshold * threshold;
+  // pairVerdicts' test for the pair (c, d): half * half < limit * brightness.
+  auto below = [limit](double cr, double cg, double cb, double dr, double dg, double db) {
+    const double half = 0.5 * (std::abs(cr - dr) + std::abs(cg - dg) + std::abs(cb - db));
+    const double brightness = (cr + cg + cb + dr + dg + db) / 2;
+    return half * half < limit * brightness;
+  };
+  for (int k = 1; k + 1 < n; ++k) {
+    const int x = x0 - 1 + k;
+    const bool one = (n0[x] == 1) & (n0[x + 1] == 1) & (n1[x - 1] == 1) & (n1[x] == 1) &
+                     (n1[x + 1] == 1);
+    const double cr = r0[k], cg = g0[k], cb = b0[k];
+    quiet[x] = one & below(cr, cg, cb, r0[k + 1], g0[k + 1], b0[k + 1]) &
+               below(cr, cg, cb, r1[k - 1], g1[k - 1], b1[k - 1]) &
+               below(cr, cg, cb, r1[k], g1[k], b1[k]) &
+               below(cr, cg, cb, r1[k + 1], g1[k + 1], b1[k + 1]);
+  }
+}
+
 } // namespace
 
 std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
@@ -127,7 +166,7 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
     return std::memcmp(&sums_[3 * i], &sums_[3 * (i + 1)], 3 * (n - 1) * sizeof(float)) == 0 &&
            std::memcmp(&count_[i], &count_[i + 1], (n - 1) * sizeof(uint32_t)) == 0;
   };
-  constexpr int kRun = 16;
+  constexpr int kRun = 16, kQuiet = 32;
   // Whether any channel is negative (or -0): its sign bit.
   uint32_t signs = 0;
   for (const float v : sums_) signs |= std::bit_cast<uint32_t>(v);
@@ -139,6 +178,13 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
     // four pairs are all plain, without a branch per pair: most of a frame.
     const bool inner = y + 1 < height_;
     int nextRun = 0;
+    // quietPixels' flags for this row, from x = 1 up to quietTo, computed
+    // kQuiet pixels at a time where runs are not alike.
+    static thread_local std::vector<uint8_t> quiet;
+    static thread_local std::vector<double> scratch;
+    quiet.resize(w);
+    int quietTo = 1;
+    const size_t rowStart = index(0, y);
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       // A run of kRun pixels all plain: the run and its right neighbour
@@ -152,6 +198,14 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
           continue;
         }
         nextRun = x + kRun;
+      }
+      if (inner && !signedColours && x > 0 && x + 1 < width_) {
+        if (x >= quietTo) {
+          quietTo = std::min(width_ - 1, x + kQuiet);
+          quietPixels(&sums_[3 * rowStart], &sums_[3 * (rowStart + w)], &count_[rowStart],
+                      &count_[rowStart + w], x, quietTo, threshold, scratch, quiet.data());
+        }
+        if (quiet[x]) continue;
       }
       if (!count_[i]) continue;
       if (inner && x > 0 && x + 1 < width_ &&

@@ -359,8 +359,9 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
     bestIsTriangle = true;
     return true;
   };
-  // One entity: the top-level tree would only clip the ray to its bounds.
-  // Several: an entity met again in a later top-level leaf is skipped.
+  // A few entities: their boxes in a list (flat_instances.h). One: the
+  // top-level tree would only clip the ray to its bounds. More: an entity
+  // met again in a later top-level leaf is skipped.
   if (!flat_.empty()) return flat_.forEachCrossed<false>(ray, tMax, testInstance);
   Mailbox mailbox;
   return instances_.size() == 1

@@ -80,6 +80,8 @@ public:
 
 private:
   static constexpr int kLanes = 4;
+  // 32-byte vectors, whose passing differs between the baseline and AVX
+  // ABIs: no function here takes or returns one (-Wpsabi).
   using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
   using Mask = int64_t __attribute__((vector_size(kLanes * sizeof(int64_t))));
   /// Four boxes, axis by axis (lanes past the last box stay empty).
@@ -118,8 +120,17 @@ private:
       const Lanes tLo = (g.lo[a] - o[a]) * invD[a], tHi = (g.hi[a] - o[a]) * invD[a];
       const Mask swap = tLo > tHi;
       const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
-      const Lanes nearSlack = tNear - abs(tNear) * KdTree::kSlack;
-      const Lanes farSlack = tFar + abs(tFar) * KdTree::kSlack;
+      // std::fabs: the sign bit cleared.
+      Mask nearBits, farBits;
+      std::memcpy(&nearBits, &tNear, sizeof tNear);
+      std::memcpy(&farBits, &tFar, sizeof tFar);
+      nearBits &= ~(Mask{} + INT64_MIN);
+      farBits &= ~(Mask{} + INT64_MIN);
+      Lanes absNear, absFar;
+      std::memcpy(&absNear, &nearBits, sizeof absNear);
+      std::memcpy(&absFar, &farBits, sizeof absFar);
+      const Lanes nearSlack = tNear - absNear * KdTree::kSlack;
+      const Lanes farSlack = tFar + absFar * KdTree::kSlack;
       tEnter = tEnter < nearSlack ? nearSlack : tEnter; // std::max
       tExit = farSlack < tExit ? farSlack : tExit;      // std::min
     }
@@ -128,14 +139,6 @@ private:
     uint32_t bits = 0;
     for (int k = 0; k < kLanes; ++k) bits |= static_cast<uint32_t>(in[k] != 0) << k;
     return bits;
-  }
-  /// std::fabs lane-wise: the sign bit cleared.
-  [[gnu::always_inline]] static Lanes abs(Lanes v) {
-    Mask bits;
-    std::memcpy(&bits, &v, sizeof v);
-    bits &= ~(Mask{} + INT64_MIN);
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
   }
 
   std::vector<Bounds3> boxes_;

@@ -84,6 +84,15 @@ constexpr uint8_t seenFromNeighbour(CentrePair k) { return uint8_t(2u << (2 * k)
          unsigned(centrePairContrast(d, c) >= threshold) << 1;
 }
 
+/// pairVerdicts' first test on the pair (c, d), with limit = 0.98 t^2:
+/// half their difference, squared, below limit times their brightness.
+[[gnu::always_inline]] inline bool pairQuiet(double cr, double cg, double cb, double dr, double dg,
+                                             double db, double limit) {
+  const double half = 0.5 * (std::abs(cr - dr) + std::abs(cg - dg) + std::abs(cb - db));
+  const double brightness = (cr + cg + cb + dr + dg + db) / 2;
+  return half * half < limit * brightness;
+}
+
 /// pairVerdictsBothWays, in a frame whose channels may be negative
 /// (`signedColours`) or not. Without one, the brightness's rounding,
 /// whichever way it is summed, is some 1e-16 of it: a pair well below the
@@ -92,9 +101,7 @@ constexpr uint8_t seenFromNeighbour(CentrePair k) { return uint8_t(2u << (2 * k)
 inline unsigned pairVerdicts(const Color &c, const Color &d, double threshold,
                              bool signedColours) {
   if (signedColours) return pairVerdictsBothWays(c, d, threshold);
-  const double half = 0.5 * (std::abs(c.r - d.r) + std::abs(c.g - d.g) + std::abs(c.b - d.b));
-  const double brightness = (c.r + c.g + c.b + d.r + d.g + d.b) / 2;
-  if (half * half < 0.98 * threshold * threshold * brightness) return 0;
+  if (pairQuiet(c.r, c.g, c.b, d.r, d.g, d.b, 0.98 * threshold * threshold)) return 0;
   const double contrast = centrePairContrast(c, d);
   if (std::abs(contrast - threshold) <= 1e-9 * threshold)
     return pairVerdictsBothWays(c, d, threshold);
@@ -122,21 +129,15 @@ void quietPixels(const float *s0, const float *s1, const uint32_t *n0, const uin
     r1[k] = s1[3 * x], g1[k] = s1[3 * x + 1], b1[k] = s1[3 * x + 2];
   }
   const double limit = 0.98 * threshold * threshold;
-  // pairVerdicts' test for the pair (c, d): half * half < limit * brightness.
-  auto below = [limit](double cr, double cg, double cb, double dr, double dg, double db) {
-    const double half = 0.5 * (std::abs(cr - dr) + std::abs(cg - dg) + std::abs(cb - db));
-    const double brightness = (cr + cg + cb + dr + dg + db) / 2;
-    return half * half < limit * brightness;
-  };
   for (int k = 1; k + 1 < n; ++k) {
     const int x = x0 - 1 + k;
     const bool one = (n0[x] == 1) & (n0[x + 1] == 1) & (n1[x - 1] == 1) & (n1[x] == 1) &
                      (n1[x + 1] == 1);
     const double cr = r0[k], cg = g0[k], cb = b0[k];
-    quiet[x] = one & below(cr, cg, cb, r0[k + 1], g0[k + 1], b0[k + 1]) &
-               below(cr, cg, cb, r1[k - 1], g1[k - 1], b1[k - 1]) &
-               below(cr, cg, cb, r1[k], g1[k], b1[k]) &
-               below(cr, cg, cb, r1[k + 1], g1[k + 1], b1[k + 1]);
+    quiet[x] = one & pairQuiet(cr, cg, cb, r0[k + 1], g0[k + 1], b0[k + 1], limit) &
+               pairQuiet(cr, cg, cb, r1[k - 1], g1[k - 1], b1[k - 1], limit) &
+               pairQuiet(cr, cg, cb, r1[k], g1[k], b1[k], limit) &
+               pairQuiet(cr, cg, cb, r1[k + 1], g1[k + 1], b1[k + 1], limit);
   }
 }
 

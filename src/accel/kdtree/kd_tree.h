@@ -7,6 +7,7 @@
 #pragma once
 
 #include "accel/kdtree/kd_node.h"
+#include "accel/kdtree/packet_lanes.h"
 #include "accel/kdtree/sah_cost_model.h"
 #include "math/bounds.h"
 #include "math/ray.h"
@@ -15,7 +16,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <emmintrin.h>
 #include <functional>
 #include <limits>
 #include <span>
@@ -480,26 +480,17 @@ uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
   // to each child that its own walk would visit, with the same segment;
   // the packet visits a child when any lane does. A cell waiting on the
   // stack keeps its lanes and their segments. The lanes' arithmetic runs
-  // in SSE2 pairs, operation for operation as walkGeneral's (no NaN can
-  // arise: no direction component is 0), so every decision is the same.
-  static_assert(kPacketRays == 4, "two SSE2 pairs of lanes");
-  struct Lanes {
-    __m128d lo, hi;
-  };
-  auto load = [](const double *p) { return Lanes{_mm_load_pd(p), _mm_load_pd(p + 2)}; };
-  auto store = [](double *p, const Lanes &v) {
-    _mm_store_pd(p, v.lo);
-    _mm_store_pd(p + 2, v.hi);
-  };
-  auto bits = [](__m128d lo, __m128d hi) {
-    return static_cast<uint32_t>(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
-  };
-  struct alignas(16) PacketTodo {
-    double tMin[kPacketRays], tMax[kPacketRays];
+  // in one vector (one AVX register; SSE2 pairs on the baseline target),
+  // operation for operation as walkGeneral's (no NaN can arise: no
+  // direction component is 0), so every decision is the same.
+  using packet_lanes::Lanes;
+  using packet_lanes::Mask;
+  static_assert(kPacketRays == packet_lanes::kWidth);
+  struct alignas(32) PacketTodo {
+    Lanes tMin, tMax;
     uint32_t node, lanes;
   };
-  alignas(16) double org[3][kPacketRays], invD[3][kPacketRays];
-  alignas(16) double t0[kPacketRays], t1[kPacketRays];
+  Lanes org[3], invD[3], t0, t1;
   for (int i = 0; i < kPacketRays; ++i) {
     // Lanes outside the packet copy a member's ray (they stay masked).
     const RaySetup &ri = r[(lanes >> i & 1u) ? i : std::countr_zero(lanes)];
@@ -510,61 +501,57 @@ uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
     t0[i] = ri.tEnter;
     t1[i] = ri.tExit;
   }
+  Lanes slackFactor;
+  packet_lanes::splat(kSlack, slackFactor);
   PacketTodo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0, cellLanes = lanes, hits = 0, done = 0;
   const uint32_t *dirNegative = r[std::countr_zero(lanes)].dirNegative;
-  const __m128d signMask = _mm_set1_pd(-0.0), slackFactor = _mm_set1_pd(kSlack);
   for (;;) {
     // A lane whose hit (or segment end) lies before this cell's entry is
     // done with it, as walkGeneral stops there.
-    const Lanes enter = load(t0), limit = {_mm_loadu_pd(tMax), _mm_loadu_pd(tMax + 2)};
-    uint32_t in = bits(_mm_cmple_pd(enter.lo, limit.lo), _mm_cmple_pd(enter.hi, limit.hi));
-    in &= cellLanes & ~done;
+    Lanes limit;
+    packet_lanes::load(tMax, limit);
+    uint32_t in = packet_lanes::bits(t0 <= limit) & cellLanes & ~done;
     if (in != 0) {
       const KdNode node = nodes_[nodeIndex];
       if (!node.isLeaf()) {
         const int axis = node.axis();
-        const __m128d split = _mm_set1_pd(node.split());
+        Lanes split;
+        packet_lanes::splat(node.split(), split);
         const uint32_t below = node.childIndex();
         const uint32_t nearChild = below + dirNegative[axis];
         const uint32_t farChild = below + 1 - dirNegative[axis];
-        const Lanes o = load(org[axis]), inv = load(invD[axis]), exit = load(t1);
-        uint32_t nearLanes = 0, farLanes = 0;
-        Lanes nearT1, farT0;
-        for (int h = 0; h < 2; ++h) {
-          const __m128d t0h = h ? enter.hi : enter.lo, t1h = h ? exit.hi : exit.lo;
-          const __m128d oh = h ? o.hi : o.lo, invh = h ? inv.hi : inv.lo;
-          const __m128d tPlane = _mm_mul_pd(_mm_sub_pd(split, oh), invh);
-          const __m128d slack = _mm_mul_pd(_mm_andnot_pd(signMask, tPlane), slackFactor);
-          const __m128d tLo = _mm_sub_pd(tPlane, slack), tHi = _mm_add_pd(tPlane, slack);
-          const __m128d nearNeeded = _mm_cmpge_pd(tHi, t0h);
-          const __m128d farNeeded = _mm_or_pd(_mm_cmplt_pd(tHi, t0h), _mm_cmple_pd(tLo, t1h));
-          nearLanes |= static_cast<uint32_t>(_mm_movemask_pd(nearNeeded)) << 2 * h;
-          farLanes |= static_cast<uint32_t>(_mm_movemask_pd(farNeeded)) << 2 * h;
-          // std::min(t1, tHi) and std::max(t0, tLo), as walkGeneral takes them.
-          (h ? nearT1.hi : nearT1.lo) = _mm_min_pd(tHi, t1h);
-          (h ? farT0.hi : farT0.lo) = _mm_max_pd(tLo, t0h);
-        }
+        const Lanes tPlane = (split - org[axis]) * invD[axis];
+        Lanes slack = tPlane;
+        packet_lanes::clearSigns(slack);
+        slack *= slackFactor;
+        const Lanes tLo = tPlane - slack, tHi = tPlane + slack;
+        const Mask nearNeeded = tHi >= t0;
+        const Mask farNeeded = (tHi < t0) | (tLo <= t1);
+        uint32_t nearLanes = packet_lanes::bits(nearNeeded);
+        uint32_t farLanes = packet_lanes::bits(farNeeded);
         nearLanes = nodes_[nearChild].isEmptyLeaf() ? 0 : nearLanes & in;
         farLanes = nodes_[farChild].isEmptyLeaf() ? 0 : farLanes & in;
+        // std::min(t1, tHi) and std::max(t0, tLo), as walkGeneral takes them.
+        const Lanes nearT1 = tHi < t1 ? tHi : t1, farT0 = tLo > t0 ? tLo : t0;
         if (nearLanes != 0) {
           if (farLanes != 0) {
             PacketTodo &todo = stack[top++];
             todo.node = farChild;
             todo.lanes = farLanes;
-            store(todo.tMin, farT0);
-            store(todo.tMax, exit);
+            todo.tMin = farT0;
+            todo.tMax = t1;
           }
           nodeIndex = nearChild;
           cellLanes = nearLanes;
-          store(t1, nearT1);
+          t1 = nearT1;
           continue;
         }
         if (farLanes != 0) {
           nodeIndex = farChild;
           cellLanes = farLanes;
-          store(t0, farT0);
+          t0 = farT0;
           continue;
         }
         // Nothing below this node for any lane: next cell from the stack.
@@ -581,8 +568,8 @@ uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
     const PacketTodo &todo = stack[--top];
     nodeIndex = todo.node;
     cellLanes = todo.lanes;
-    store(t0, load(todo.tMin));
-    store(t1, load(todo.tMax));
+    t0 = todo.tMin;
+    t1 = todo.tMax;
   }
   return hits;
 }

@@ -206,10 +206,21 @@ private:
   template <bool AnyHit, class LeafTest>
   bool descend(const RaySetup &r, double &tMax, LeafTest &testLeaf) const;
 
+  // A packet's rays clipped to the root box, lane by lane (RaySetup's
+  // fields as vectors).
+  struct PacketSetup {
+    packet_lanes::Lanes org[3], dir[3], invD[3], tEnter, tExit;
+  };
+  // clipToBounds for the lanes of `lanes` (none with a direction component
+  // of 0) at once, the same operations lane by lane: the lanes that cross
+  // the box. Lanes outside `lanes` copy the first lane's ray.
+  uint32_t clipPacket(const Ray *rays, uint32_t lanes, const double *tMax, PacketSetup &p) const;
+
   // The packet walk of traversePacket over lanes whose rays all move the
   // same way along every axis (see there).
   template <bool AnyHit, class LeafTest>
-  uint32_t walkPacket(const RaySetup *r, uint32_t lanes, double *tMax, LeafTest &testLeaf) const;
+  uint32_t walkPacket(const PacketSetup &p, const uint32_t *dirNegative, uint32_t lanes,
+                      double *tMax, LeafTest &testLeaf) const;
 
   std::vector<KdNode> nodes_;
   std::vector<uint32_t> primIndices_;
@@ -441,25 +452,98 @@ template <bool AnyHit, class LeafTest>
   return hit;
 }
 
+[[gnu::always_inline]] inline uint32_t KdTree::clipPacket(const Ray *rays, uint32_t lanes,
+                                                         const double *tMax,
+                                                         PacketSetup &p) const {
+  using packet_lanes::Lanes;
+  using packet_lanes::Mask;
+  const int firstLane = std::countr_zero(lanes);
+  for (int i = 0; i < kPacketRays; ++i) {
+    const int k = (lanes >> i & 1u) ? i : firstLane;
+    const Ray &ray = rays[k];
+    for (int a = 0; a < 3; ++a) {
+      p.org[a][i] = ray.o[a];
+      p.dir[a][i] = ray.d[a];
+    }
+    p.tEnter[i] = ray.tMin;
+    p.tExit[i] = tMax[k];
+  }
+  Lanes slackFactor, one;
+  packet_lanes::splat(kSlack, slackFactor);
+  packet_lanes::splat(1.0, one);
+  for (int a = 0; a < 3; ++a) {
+    Lanes lo, hi;
+    packet_lanes::splat(bounds_.lo[a], lo);
+    packet_lanes::splat(bounds_.hi[a], hi);
+    p.invD[a] = one / p.dir[a];
+    const Lanes tLo = (lo - p.org[a]) * p.invD[a], tHi = (hi - p.org[a]) * p.invD[a];
+    const Mask swap = tLo > tHi;
+    const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
+    Lanes absNear = tNear, absFar = tFar;
+    packet_lanes::clearSigns(absNear);
+    packet_lanes::clearSigns(absFar);
+    const Lanes nearSlack = tNear - absNear * slackFactor, farSlack = tFar + absFar * slackFactor;
+    // std::max(tEnter, nearSlack), std::min(tExit, farSlack). A lane whose
+    // segment is empty after one axis stays so after the others (its entry
+    // only grows, its exit only shrinks), as clipToBounds returns there.
+    p.tEnter = p.tEnter < nearSlack ? nearSlack : p.tEnter;
+    p.tExit = farSlack < p.tExit ? farSlack : p.tExit;
+  }
+  return packet_lanes::bits(p.tEnter <= p.tExit) & lanes;
+}
+
 template <bool AnyHit, class LeafTest>
 inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *tMax,
                                        LeafTest &&testLeaf) const {
+  using packet_lanes::Lanes;
+  using packet_lanes::Mask;
+  if (nodes_.empty()) return 0;
+  // Rays parallel to a plane take the general loop's own branch and
+  // clipToBounds' own test.
+  bool parallel = false;
+  for (int i = 0; i < kPacketRays; ++i)
+    if (lanes >> i & 1u)
+      parallel = parallel || rays[i].d.x == 0 || rays[i].d.y == 0 || rays[i].d.z == 0;
   RaySetup r[kPacketRays];
   uint32_t live = 0;
-  for (int i = 0; i < kPacketRays; ++i)
-    if ((lanes >> i & 1u) && clipToBounds(rays[i], tMax[i], r[i])) live |= 1u << i;
-  if (live == 0) return 0;
-  // Together: rays that move the same way along every axis, none parallel
-  // to a plane (those take the general loop's own branch) or out of range.
-  const RaySetup &lead = r[std::countr_zero(live)];
-  bool together = std::popcount(live) > 1;
-  for (int i = 0; i < kPacketRays; ++i) {
-    if (!(live >> i & 1u)) continue;
-    together = together && ordinary(r[i]) && r[i].dirNegative[0] == lead.dirNegative[0] &&
-               r[i].dirNegative[1] == lead.dirNegative[1] &&
-               r[i].dirNegative[2] == lead.dirNegative[2];
+  if (parallel) {
+    for (int i = 0; i < kPacketRays; ++i)
+      if ((lanes >> i & 1u) && clipToBounds(rays[i], tMax[i], r[i])) live |= 1u << i;
+  } else {
+    PacketSetup p;
+    live = clipPacket(rays, lanes, tMax, p);
+    if (live == 0) return 0;
+    // Together: rays that move the same way along every axis, none out of
+    // range (see kOrdinaryMin).
+    Lanes tiny, huge;
+    packet_lanes::splat(kOrdinaryMin, tiny);
+    packet_lanes::splat(kOrdinaryMax, huge);
+    Mask ordinary = ~Mask{};
+    uint32_t dirNegative[3];
+    bool together = std::popcount(live) > 1;
+    for (int a = 0; a < 3; ++a) {
+      Lanes d = p.dir[a], o = p.org[a];
+      packet_lanes::clearSigns(d);
+      packet_lanes::clearSigns(o);
+      ordinary &= (d >= tiny) & (d <= huge) & (o <= huge);
+      const uint32_t negative = packet_lanes::bits(p.dir[a] < Lanes{}) & live;
+      together = together && (negative == 0 || negative == live);
+      dirNegative[a] = negative != 0 ? 1 : 0;
+    }
+    together = together && (packet_lanes::bits(ordinary) & live) == live;
+    if (together) return walkPacket<AnyHit>(p, dirNegative, live, tMax, testLeaf);
+    for (int i = 0; i < kPacketRays; ++i) {
+      if (!(live >> i & 1u)) continue;
+      for (int a = 0; a < 3; ++a) {
+        r[i].org[a] = p.org[a][i];
+        r[i].dir[a] = p.dir[a][i];
+        r[i].invD[a] = p.invD[a][i];
+        r[i].dirNegative[a] = p.dir[a][i] < 0 ? 1 : 0;
+      }
+      r[i].tEnter = p.tEnter[i];
+      r[i].tExit = p.tExit[i];
+    }
   }
-  if (together) return walkPacket<AnyHit>(r, live, tMax, testLeaf);
   uint32_t hits = 0;
   for (int i = 0; i < kPacketRays; ++i) {
     if (!(live >> i & 1u)) continue;
@@ -474,8 +558,8 @@ inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *
 }
 
 template <bool AnyHit, class LeafTest>
-uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
-                            LeafTest &testLeaf) const {
+uint32_t KdTree::walkPacket(const PacketSetup &p, const uint32_t *dirNegative, uint32_t lanes,
+                            double *tMax, LeafTest &testLeaf) const {
   // walkGeneral's steps, lane by lane, on one node at a time: a lane goes
   // to each child that its own walk would visit, with the same segment;
   // the packet visits a child when any lane does. A cell waiting on the
@@ -490,23 +574,13 @@ uint32_t KdTree::walkPacket(const RaySetup *r, uint32_t lanes, double *tMax,
     Lanes tMin, tMax;
     uint32_t node, lanes;
   };
-  Lanes org[3], invD[3], t0, t1;
-  for (int i = 0; i < kPacketRays; ++i) {
-    // Lanes outside the packet copy a member's ray (they stay masked).
-    const RaySetup &ri = r[(lanes >> i & 1u) ? i : std::countr_zero(lanes)];
-    for (int a = 0; a < 3; ++a) {
-      org[a][i] = ri.org[a];
-      invD[a][i] = ri.invD[a];
-    }
-    t0[i] = ri.tEnter;
-    t1[i] = ri.tExit;
-  }
+  const Lanes(&org)[3] = p.org, (&invD)[3] = p.invD;
+  Lanes t0 = p.tEnter, t1 = p.tExit;
   Lanes slackFactor;
   packet_lanes::splat(kSlack, slackFactor);
   PacketTodo stack[kMaxDepth + 2];
   int top = 0;
   uint32_t nodeIndex = 0, cellLanes = lanes, hits = 0, done = 0;
-  const uint32_t *dirNegative = r[std::countr_zero(lanes)].dirNegative;
   for (;;) {
     // A lane whose hit (or segment end) lies before this cell's entry is
     // done with it, as walkGeneral stops there.

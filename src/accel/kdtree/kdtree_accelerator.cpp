@@ -62,6 +62,29 @@ private:
   uint32_t next_ = 0;
 };
 
+// Mailbox for the lanes of a packet together: the last four entities
+// tested, each with the lanes it was tested for.
+class PacketMailbox {
+public:
+  /// The lanes of `lanes` that have not just tested `prim`; records them.
+  uint32_t firstVisits(uint32_t prim, uint32_t lanes) {
+    for (int k = 0; k < 4; ++k)
+      if (recent_[k] == prim) {
+        lanes &= ~tested_[k];
+        tested_[k] |= lanes;
+        return lanes;
+      }
+    recent_[next_ % 4] = prim;
+    tested_[next_++ % 4] = lanes;
+    return lanes;
+  }
+
+private:
+  uint32_t recent_[4] = {~0u, ~0u, ~0u, ~0u};
+  uint32_t tested_[4] = {};
+  uint32_t next_ = 0;
+};
+
 // Leaves of at most this many triangles skip the prefilter (two exact
 // tests cost less than a packet test and the prefilter ray's setup).
 constexpr uint32_t kDirectTestLimit = 2;
@@ -424,9 +447,11 @@ bool KdTreeAccelerator::occluded(const Ray &ray) const {
 template <bool AnyHit>
 uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double *tMax,
                                         PacketFinds *finds) const {
-  // Each lane meets the entities in the order its own walk does, with its
-  // own mailbox, and keeps its nearest find as intersectRay does.
-  Mailbox mailboxes[kRays];
+  // Each lane meets the entities in the order its own walk does and keeps
+  // its nearest find as intersectRay does. The lanes share one mailbox: it
+  // skips fewer or other repeats than a lane's own would, and a repeat
+  // finds nothing nearer (Mailbox), so the finds are the same.
+  PacketMailbox mailbox;
   auto testInstance = [&](uint32_t prim, uint32_t in, double *tBest) {
     const Instance &inst = instances_[prim];
     uint32_t found = 0;
@@ -483,11 +508,7 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
         uint32_t found = 0;
         for (uint32_t k = 0; k < count && in != 0; ++k) {
           const uint32_t prim = topPrims[offset + k];
-          uint32_t first = 0;
-          for (uint32_t m = in; m != 0; m &= m - 1) {
-            const int i = std::countr_zero(m);
-            if (mailboxes[i].firstVisit(prim)) first |= 1u << i;
-          }
+          const uint32_t first = mailbox.firstVisits(prim, in);
           if (first == 0) continue;
           const uint32_t hit = testInstance(prim, first, tBest);
           found |= hit;

@@ -211,9 +211,10 @@ private:
   struct PacketSetup {
     packet_lanes::Lanes org[3], dir[3], invD[3], tEnter, tExit;
   };
-  // clipToBounds for the lanes of `lanes` (none with a direction component
-  // of 0) at once, the same operations lane by lane: the lanes that cross
-  // the box. Lanes outside `lanes` copy the first lane's ray.
+  // clipToBounds for the lanes of `lanes` at once, the same operations lane
+  // by lane: the lanes that cross the box (void for a lane with a
+  // direction component of 0). Lanes outside `lanes` copy the first lane's
+  // ray.
   uint32_t clipPacket(const Ray *rays, uint32_t lanes, const double *tMax, PacketSetup &p) const;
 
   // The packet walk of traversePacket over lanes whose rays all move the
@@ -498,20 +499,18 @@ inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *
   using packet_lanes::Lanes;
   using packet_lanes::Mask;
   if (nodes_.empty()) return 0;
+  PacketSetup p;
+  const uint32_t crossing = clipPacket(rays, lanes, tMax, p);
   // Rays parallel to a plane take the general loop's own branch and
-  // clipToBounds' own test.
-  bool parallel = false;
-  for (int i = 0; i < kPacketRays; ++i)
-    if (lanes >> i & 1u)
-      parallel = parallel || rays[i].d.x == 0 || rays[i].d.y == 0 || rays[i].d.z == 0;
+  // clipToBounds' own test (their lanes of p are void).
+  const Mask parallel = (p.dir[0] == Lanes{}) | (p.dir[1] == Lanes{}) | (p.dir[2] == Lanes{});
   RaySetup r[kPacketRays];
   uint32_t live = 0;
-  if (parallel) {
+  if ((packet_lanes::bits(parallel) & lanes) != 0) {
     for (int i = 0; i < kPacketRays; ++i)
       if ((lanes >> i & 1u) && clipToBounds(rays[i], tMax[i], r[i])) live |= 1u << i;
   } else {
-    PacketSetup p;
-    live = clipPacket(rays, lanes, tMax, p);
+    live = crossing;
     if (live == 0) return 0;
     // Together: rays that move the same way along every axis, none out of
     // range (see kOrdinaryMin).

@@ -72,8 +72,9 @@ LADDER = {
                    "0.06", "0.05", "0.04", "0.03", "0.025", "0.02", "0.01", "0.005"],
     # --edge-lattice 5: the thresholds (its cells' contrast times their
     # area: lower than the Sobol passes' for the same error)
-    "lattice_thresholds": ["1", "0.6", "0.3", "0.15", "0.07", "0.05", "0.035", "0.025", "0.017", "0.012",
-                           "0.008", "0.005", "0.0035", "0.0025", "0.0017"],
+    "lattice_thresholds": ["1", "0.8", "0.6", "0.45", "0.3", "0.22", "0.15", "0.1", "0.07", "0.05",
+                           "0.035", "0.025", "0.017", "0.012", "0.008", "0.005", "0.0035", "0.0025",
+                           "0.0017"],
     # time limits as fractions of the LRay reference's render time
     "time_fractions": [1 / 32, 1 / 16, 1 / 8, 1 / 4],
     "pov": [("noaa", "-A", ["-A"]),

@@ -81,4 +81,16 @@ inline void spawnRayTo(const SpawnOrigins &origins, const Hit &hit, const Vec3 &
   ray.time = hit.time;
 }
 
+/// ray = spawnRayTo(hit, target), written field by field into its place
+/// in a batch (see above): for a point with one shadow ray, which pushes
+/// its origin off to the one side it needs.
+inline void spawnRayTo(const Hit &hit, const Vec3 &target, Ray &ray) {
+  const Vec3 o = offsetRayOrigin(hit, target - hit.p);
+  ray.o = o;
+  ray.d = target - o;
+  ray.tMin = 0;
+  ray.tMax = 1;
+  ray.time = hit.time;
+}
+
 } // namespace lray

@@ -203,6 +203,9 @@ private:
   MaterialTable materials_;
   uint32_t lightShares_;
   ShadowShafts shafts_;
+  /// One light of one cell (a point or spot light): a lit point sends one
+  /// shadow ray, and its origin is pushed off to that ray's side alone.
+  bool oneShadowRay_ = false;
 };
 
 } // namespace lray

@@ -38,6 +38,8 @@ Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const Imag
       lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()),
       lightShares_(std::max<uint32_t>(1, options.lightShares)) {
   if (options.shadowSkips && !lights_.empty()) shafts_ = ShadowShafts(scene);
+  oneShadowRay_ = lights_.size() == 1 &&
+                  std::visit([](const auto &source) { return source.sampleCount(); }, lights_[0]) == 1;
   images_.reserve(scene.images.size());
   for (const ImageRef &ref : scene.images) {
     const TextureImage *image = images.find(ref.path);
@@ -85,9 +87,11 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
                                        bool coherent, const LightScratch &scratch, Color *sums,
                                        RayCounts &counts) const {
   // Where each lit point's shadow rays start (of two places, by the side
-  // of its surface they leave), for all the lights' samples.
-  for (size_t i = 0; i < count; ++i)
-    if ((!found || found[i]) && surfaces[i].m->lit) scratch.origins[i] = spawnOrigins(hits[i]);
+  // of its surface they leave), for all the lights' samples; a point's one
+  // shadow ray (one light of one cell) takes the side it needs instead.
+  if (!oneShadowRay_)
+    for (size_t i = 0; i < count; ++i)
+      if ((!found || found[i]) && surfaces[i].m->lit) scratch.origins[i] = spawnOrigins(hits[i]);
   bool pointsInLanes = false; // scratch.lanes holds the lit points
   for (const LightSampler &light : lights_) {
     std::visit(
@@ -172,7 +176,10 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
               if (p.dir.nl <= 0) continue; // faces away: no shadow ray
               if constexpr (!kUniform) p.dir.color = pending[j].dir.color;
               p.ray = i;
-              spawnRayTo(scratch.origins[i], hit, target, shadowRays[n]);
+              if (oneShadowRay_)
+                spawnRayTo(hit, target, shadowRays[n]);
+              else
+                spawnRayTo(scratch.origins[i], hit, target, shadowRays[n]);
               ++n;
             }
             shadow += n;

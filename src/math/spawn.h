@@ -34,6 +34,16 @@ inline Vec3 errorOffset(const Hit &hit) {
   return p;
 }
 
+/// The shadow ray from `o` to `target` (t in (0, 1)), written field by
+/// field into its place (see spawnRayTo below).
+inline void writeShadowRay(const Vec3 &o, const Vec3 &target, float time, Ray &ray) {
+  ray.o = o;
+  ray.d = target - o;
+  ray.tMin = 0;
+  ray.tMax = 1;
+  ray.time = time;
+}
+
 } // namespace spawn_detail
 
 /// The hit point moved to the side of the surface that `dir` points into,
@@ -73,24 +83,15 @@ inline Ray spawnRayTo(const Hit &hit, const Vec3 &target) {
 /// stack and copied there was read back in 16-byte pieces across its
 /// 8-byte stores, a store-forwarding stall on every shadow ray.
 inline void spawnRayTo(const SpawnOrigins &origins, const Hit &hit, const Vec3 &target, Ray &ray) {
-  const Vec3 &o = dot(target - hit.p, hit.ng) < 0 ? origins.back : origins.front;
-  ray.o = o;
-  ray.d = target - o;
-  ray.tMin = 0;
-  ray.tMax = 1;
-  ray.time = hit.time;
+  spawn_detail::writeShadowRay(dot(target - hit.p, hit.ng) < 0 ? origins.back : origins.front,
+                               target, hit.time, ray);
 }
 
 /// ray = spawnRayTo(hit, target), written field by field into its place
 /// in a batch (see above): for a point with one shadow ray, which pushes
 /// its origin off to the one side it needs.
 inline void spawnRayTo(const Hit &hit, const Vec3 &target, Ray &ray) {
-  const Vec3 o = offsetRayOrigin(hit, target - hit.p);
-  ray.o = o;
-  ray.d = target - o;
-  ray.tMin = 0;
-  ray.tMax = 1;
-  ray.time = hit.time;
+  spawn_detail::writeShadowRay(offsetRayOrigin(hit, target - hit.p), target, hit.time, ray);
 }
 
 } // namespace lray

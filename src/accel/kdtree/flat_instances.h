@@ -7,6 +7,7 @@
 #pragma once
 
 #include "accel/kdtree/kd_tree.h"
+#include "accel/kdtree/packet_lanes.h"
 #include "math/bounds.h"
 #include "math/ray.h"
 
@@ -79,11 +80,8 @@ public:
   }
 
 private:
-  static constexpr int kLanes = 4;
-  // 32-byte vectors, whose passing differs between the baseline and AVX
-  // ABIs: no function here takes or returns one (-Wpsabi).
-  using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
-  using Mask = int64_t __attribute__((vector_size(kLanes * sizeof(int64_t))));
+  static constexpr int kLanes = packet_lanes::kWidth;
+  using Lanes = packet_lanes::Lanes;
   /// Four boxes, axis by axis (lanes past the last box stay empty).
   struct Group {
     Lanes lo[3] = {}, hi[3] = {};
@@ -115,30 +113,16 @@ private:
   [[gnu::always_inline]] static uint32_t entries(const Group &g, const double (&o)[3],
                                                  const double (&invD)[3], double tMin,
                                                  double tMax, double *enter) {
-    Lanes tEnter = Lanes{} + tMin, tExit = Lanes{} + tMax;
+    Lanes tEnter = Lanes{} + tMin, tExit = Lanes{} + tMax, slack;
+    packet_lanes::splat(KdTree::kSlack, slack);
     for (int a = 0; a < 3; ++a) {
-      const Lanes tLo = (g.lo[a] - o[a]) * invD[a], tHi = (g.hi[a] - o[a]) * invD[a];
-      const Mask swap = tLo > tHi;
-      const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
-      // std::fabs: the sign bit cleared.
-      Mask nearBits, farBits;
-      std::memcpy(&nearBits, &tNear, sizeof tNear);
-      std::memcpy(&farBits, &tFar, sizeof tFar);
-      nearBits &= ~(Mask{} + INT64_MIN);
-      farBits &= ~(Mask{} + INT64_MIN);
-      Lanes absNear, absFar;
-      std::memcpy(&absNear, &nearBits, sizeof absNear);
-      std::memcpy(&absFar, &farBits, sizeof absFar);
-      const Lanes nearSlack = tNear - absNear * KdTree::kSlack;
-      const Lanes farSlack = tFar + absFar * KdTree::kSlack;
-      tEnter = tEnter < nearSlack ? nearSlack : tEnter; // std::max
-      tExit = farSlack < tExit ? farSlack : tExit;      // std::min
+      Lanes origin, inverse;
+      packet_lanes::splat(o[a], origin);
+      packet_lanes::splat(invD[a], inverse);
+      packet_lanes::clipToSlab(g.lo[a], g.hi[a], origin, inverse, slack, tEnter, tExit);
     }
     std::memcpy(enter, &tEnter, sizeof tEnter);
-    const Mask in = tEnter <= tExit;
-    uint32_t bits = 0;
-    for (int k = 0; k < kLanes; ++k) bits |= static_cast<uint32_t>(in[k] != 0) << k;
-    return bits;
+    return packet_lanes::bits(tEnter <= tExit);
   }
 
   std::vector<Bounds3> boxes_;

@@ -457,7 +457,6 @@ template <bool AnyHit, class LeafTest>
                                                          const double *tMax,
                                                          PacketSetup &p) const {
   using packet_lanes::Lanes;
-  using packet_lanes::Mask;
   const int firstLane = std::countr_zero(lanes);
   for (int i = 0; i < kPacketRays; ++i) {
     const int k = (lanes >> i & 1u) ? i : firstLane;
@@ -472,23 +471,15 @@ template <bool AnyHit, class LeafTest>
   Lanes slackFactor, one;
   packet_lanes::splat(kSlack, slackFactor);
   packet_lanes::splat(1.0, one);
+  // A lane whose segment is empty after one axis stays so after the others
+  // (its entry only grows, its exit only shrinks), as clipToBounds returns
+  // there.
   for (int a = 0; a < 3; ++a) {
     Lanes lo, hi;
     packet_lanes::splat(bounds_.lo[a], lo);
     packet_lanes::splat(bounds_.hi[a], hi);
     p.invD[a] = one / p.dir[a];
-    const Lanes tLo = (lo - p.org[a]) * p.invD[a], tHi = (hi - p.org[a]) * p.invD[a];
-    const Mask swap = tLo > tHi;
-    const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
-    Lanes absNear = tNear, absFar = tFar;
-    packet_lanes::clearSigns(absNear);
-    packet_lanes::clearSigns(absFar);
-    const Lanes nearSlack = tNear - absNear * slackFactor, farSlack = tFar + absFar * slackFactor;
-    // std::max(tEnter, nearSlack), std::min(tExit, farSlack). A lane whose
-    // segment is empty after one axis stays so after the others (its entry
-    // only grows, its exit only shrinks), as clipToBounds returns there.
-    p.tEnter = p.tEnter < nearSlack ? nearSlack : p.tEnter;
-    p.tExit = farSlack < p.tExit ? farSlack : p.tExit;
+    packet_lanes::clipToSlab(lo, hi, p.org[a], p.invD[a], slackFactor, p.tEnter, p.tExit);
   }
   return packet_lanes::bits(p.tEnter <= p.tExit) & lanes;
 }

@@ -1,8 +1,8 @@
-// Pipeline: acceleration (kd-tree backend). The lanes of a packet walk
-// (KdTree::walkPacket): one double per ray of the packet in one vector, an
+// Pipeline: acceleration (kd-tree backend). Four doubles in one vector, an
 // AVX register where the build targets AVX (LRAY_NATIVE) and SSE2 pairs on
-// the baseline target. Each lane's operations are the scalar walk's, so
-// its decisions are the same bit for bit.
+// the baseline target: a packet's rays (KdTree::walkPacket, clipPacket) or
+// a few entities' boxes (FlatInstances). Each lane's operations are the
+// scalar code's, so its decisions are the same bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -48,6 +48,25 @@ using Mask = int64_t __attribute__((vector_size(kWidth * sizeof(int64_t))));
   std::memcpy(&hi, reinterpret_cast<const char *>(&m) + sizeof lo, sizeof hi);
   return static_cast<uint32_t>(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
 #endif
+}
+
+/// One axis of KdTree::clipToBounds' slab test, lane by lane with the same
+/// operations: (tEnter, tExit) cut to where the line o + t d lies between
+/// lo and hi, with invD = 1 / d (no component 0) and the test's slack
+/// (KdTree::kSlack) in every lane of `slack`.
+[[gnu::always_inline]] inline void clipToSlab(const Lanes &lo, const Lanes &hi, const Lanes &o,
+                                              const Lanes &invD, const Lanes &slack,
+                                              Lanes &tEnter, Lanes &tExit) {
+  const Lanes tLo = (lo - o) * invD, tHi = (hi - o) * invD;
+  const Mask swap = tLo > tHi;
+  const Lanes tNear = swap ? tHi : tLo, tFar = swap ? tLo : tHi;
+  Lanes absNear = tNear, absFar = tFar;
+  clearSigns(absNear);
+  clearSigns(absFar);
+  const Lanes nearSlack = tNear - absNear * slack, farSlack = tFar + absFar * slack;
+  // std::max(tEnter, nearSlack), std::min(tExit, farSlack).
+  tEnter = tEnter < nearSlack ? nearSlack : tEnter;
+  tExit = farSlack < tExit ? farSlack : tExit;
 }
 
 } // namespace lray::packet_lanes

@@ -1,5 +1,6 @@
 list(APPEND LRAY_CORE_SOURCES
   src/geometry/shapes/sphere.cpp
+  src/geometry/shapes/sphere_bound.cpp
   src/geometry/shapes/cylinder.cpp
   src/geometry/shapes/cone.cpp
   src/geometry/shapes/cube.cpp

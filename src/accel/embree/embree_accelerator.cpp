@@ -223,6 +223,7 @@ struct EmbreeCallbacks {
       const double tMax = std::min(std::min(r.tMax, ctx->bestT[id]),
                                    static_cast<double>(RTCRayN_tfar(rays, n, i)));
       if (moving && moving->misses(shape.index, r, tMax)) continue;
+      if (shape.stillSphere && shape.sphereBound.missesLine(r)) continue;
       Hit h;
       if (!intersectShape(*shape.entity, shape.index, r, tMax, h)) continue;
       ctx->bestT[id] = h.t;
@@ -326,7 +327,8 @@ struct EmbreeCallbacks {
                                  const MovingBoxes *moving) {
     if (shape.stillSphere)
       return occludedLanes(args, [&shape](const Ray &ray, float tfar) {
-        return occludedStillSphere(*shape.entity, ray,
+        return !shape.sphereBound.missesLine(ray) &&
+               occludedStillSphere(*shape.entity, ray,
                                    std::min(ray.tMax, static_cast<double>(tfar)));
       });
     occludedLanes(args, [&shape, moving](const Ray &ray, float tfar) {
@@ -530,8 +532,8 @@ void EmbreeAccelerator::build() {
       // A shape with empty bounds (a CSG Intersection of disjoint solids)
       // has nothing to hit, and Embree would take its inverted box in.
       if (!UnboundedShapes::holds(e) && !shapeWorldBounds(e).empty())
-        shapeRefs_.push_back(
-            {&e, id, nullptr, isStillSphere(e)});
+        shapeRefs_.push_back({&e, id, nullptr, isStillSphere(e),
+                              isStillSphere(e) ? SphereBound(e.worldFromObject) : SphereBound()});
       continue;
     }
     if (!e.mesh || e.mesh->triangles.empty()) continue;

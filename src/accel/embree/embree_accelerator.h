@@ -9,6 +9,7 @@
 #include "accel/accelerator.h"
 #include "accel/moving_boxes.h"
 #include "accel/unbounded_shapes.h"
+#include "geometry/shapes/sphere_bound.h"
 
 #include <atomic>
 #include <cstddef>
@@ -54,6 +55,7 @@ public:
     uint32_t index = 0;
     RTCSceneTy *meshScene = nullptr; ///< a moving mesh: its triangle scene
     bool stillSphere = false; ///< occludedStillSphere tests it
+    SphereBound sphereBound;  ///< a still sphere's: settles most shadow rays first
   };
 
 private:

@@ -184,6 +184,10 @@ KdTreeAccelerator::KdTreeAccelerator(const Scene &scene)
       ++stats_.primitives;
       if (UnboundedShapes::holds(e)) continue;
       topBounds.push_back(shapeWorldBounds(e));
+      if (isStillSphere(e)) {
+        inst.transform = static_cast<uint32_t>(sphereBounds_.size());
+        sphereBounds_.emplace_back(e.worldFromObject);
+      }
     }
     instances_.push_back(inst);
   }
@@ -368,6 +372,7 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
     const Entity &entity = scene_.entities[inst.entity];
     if (moving_.misses(inst.entity, ray, tBest)) return false;
     if (inst.meshTree == kAnalytic) {
+      if (passesStillSphere(inst, ray)) return false;
       Hit candidate;
       if (!intersectShape(entity, inst.entity, ray, tBest, candidate) || !(candidate.t < tBest))
         return false;
@@ -414,8 +419,8 @@ template <KdRays Rays>
     if (moving_.misses(inst.entity, ray, ray.tMax)) return false;
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
-      return isStillSphere(entity) ? occludedStillSphere(entity, ray, ray.tMax)
-                                   : occludedShape(entity, ray);
+      if (inst.transform == kIdentity) return occludedShape(entity, ray);
+      return !passesStillSphere(inst, ray) && occludedStillSphere(entity, ray, ray.tMax);
     }
     double tObject = ray.tMax;
     MeshHit unused;
@@ -462,9 +467,10 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       }
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
-      const bool stillSphere = isStillSphere(entity);
+      const bool stillSphere = inst.transform != kIdentity;
       for (; in != 0; in &= in - 1) {
         const int i = std::countr_zero(in);
+        if (passesStillSphere(inst, rays[i])) continue;
         if (AnyHit) {
           if (!(stillSphere ? occludedStillSphere(entity, rays[i], tBest[i])
                             : occludedShape(entity, rays[i], tBest[i])))

@@ -14,6 +14,7 @@
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/triangle_prefilter.h"
 #include "geometry/shape.h"
+#include "geometry/shapes/sphere_bound.h"
 #include "math/transform.h"
 
 #include <cstdint>
@@ -82,6 +83,8 @@ private:
     uint32_t meshTree = kAnalytic;
     /// Meshes: the index of objectFromWorld in transforms_, or kIdentity
     /// (object space == world space: the ray is not transformed), or kMoving.
+    /// A still Sphere (isStillSphere): the index of its SphereBound in
+    /// sphereBounds_; other analytic shapes: kIdentity.
     uint32_t transform = kIdentity;
   };
   static_assert(sizeof(Instance) == 12);
@@ -111,6 +114,12 @@ private:
   bool testMovingLeaf(const MeshTree &mt, const WatertightRay &wray, double time, uint32_t offset,
                       uint32_t count, double &tTri, MeshHit &hit) const;
   /// `ray` (world space) in the object space of mesh instance `inst`.
+  /// An analytic instance: true only where it is a still sphere that the
+  /// line of `ray` passes by a clear margin (SphereBound), so that its own
+  /// test would find nothing.
+  bool passesStillSphere(const Instance &inst, const Ray &ray) const {
+    return inst.transform != kIdentity && sphereBounds_[inst.transform].missesLine(ray);
+  }
   Ray objectRayOf(const Instance &inst, const Ray &ray) const {
     if (inst.transform == kIdentity) return ray;
     if (inst.transform == kMoving) return objectSpaceRay(scene_.entities[inst.entity], ray);
@@ -155,6 +164,9 @@ private:
   bool usePackets_ = false;
   std::vector<MeshTree> meshTrees_;
   std::vector<Instance> instances_;
+  /// The still spheres' bounds (Instance::transform), which settle most
+  /// shadow rays that pass them before occludedStillSphere.
+  std::vector<SphereBound> sphereBounds_;
   /// Planes: outside both levels, tested after them (closest) or before
   /// them (any hit).
   UnboundedShapes unbounded_;

@@ -19,6 +19,7 @@
 // RTCIntersectContext, so analytic shapes are intersected exactly as the
 // kd-tree does and the callback's Hit is the one returned (no recomputation).
 #include "accel/embree/embree_accelerator.h"
+#include "accel/embree/embree_rays.h"
 
 #include "geometry/float_frame.h"
 #include "geometry/shape.h"
@@ -51,67 +52,6 @@ struct QueryContext {
   Hit *hits = nullptr;       ///< intersect only: where an accepted analytic hit goes
   double *bestT = nullptr;   ///< intersect only: t of the closest analytic hit so far
 };
-
-float roundDown(double x) {
-  auto f = static_cast<float>(x);
-  return static_cast<double>(f) > x ? std::nextafter(f, -kInfinityF) : f;
-}
-
-float roundUp(double x) {
-  auto f = static_cast<float>(x);
-  return static_cast<double>(f) < x ? std::nextafter(f, kInfinityF) : f;
-}
-
-/// Embree's single-precision view of a ray, its origin relative to the
-/// float frame's origin (float_frame.h; t is the same in both frames): the
-/// valid interval is rounded outwards so Embree's culling never drops what
-/// the double test accepts.
-void toEmbree(const Ray &r, const Vec3 &frame, float &ox, float &oy, float &oz, float &dx,
-              float &dy, float &dz, float &tnear, float &tfar) {
-  ox = static_cast<float>(r.o.x - frame.x);
-  oy = static_cast<float>(r.o.y - frame.y);
-  oz = static_cast<float>(r.o.z - frame.z);
-  dx = static_cast<float>(r.d.x);
-  dy = static_cast<float>(r.d.y);
-  dz = static_cast<float>(r.d.z);
-  tnear = std::max(0.0f, roundDown(r.tMin));
-  tfar = roundUp(r.tMax);
-}
-
-/// `ray` as Embree's single ray, in the float frame about `origin`.
-void toRay1(const Ray &ray, const Vec3 &origin, RTCRay &r) {
-  toEmbree(ray, origin, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
-  r.time = ray.time;
-  r.mask = 0xFFFFFFFFu;
-  r.id = 0;
-  r.flags = 0;
-}
-
-/// `ray` as Embree's single ray with a hit record (toRay1), no hit yet.
-void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
-  toRay1(ray, origin, rh.ray);
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-}
-
-/// rays[0, lanes) as an 8-wide packet (lanes beyond repeat ray 0, invalid),
-/// with each ray's tMax in bestT for the analytic shapes' callbacks.
-void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh, int *valid,
-               double *bestT) {
-  for (unsigned i = 0; i < 8; ++i) {
-    valid[i] = i < lanes ? -1 : 0;
-    const Ray &r = rays[i < lanes ? i : 0];
-    toEmbree(r, origin, rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
-             rh.ray.dir_y[i], rh.ray.dir_z[i], rh.ray.tnear[i], rh.ray.tfar[i]);
-    rh.ray.time[i] = r.time;
-    rh.ray.mask[i] = 0xFFFFFFFFu;
-    rh.ray.id[i] = i;
-    rh.ray.flags[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    bestT[i] = r.tMax;
-  }
-}
 
 /// Whether a triangle of `mesh` has no area (its corners' cross product,
 /// in double from their floats, is zero).
@@ -736,16 +676,7 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     size_t lanes = std::min<size_t>(8, count - base);
     alignas(32) int valid[8];
     alignas(32) RTCRay8 r8;
-    for (unsigned i = 0; i < 8; ++i) {
-      valid[i] = i < lanes ? -1 : 0;
-      const Ray &r = rays[base + (i < lanes ? i : 0)];
-      toEmbree(r, frameOrigin_, r8.org_x[i], r8.org_y[i], r8.org_z[i], r8.dir_x[i], r8.dir_y[i],
-               r8.dir_z[i], r8.tnear[i], r8.tfar[i]);
-      r8.time[i] = r.time;
-      r8.mask[i] = 0xFFFFFFFFu;
-      r8.id[i] = i;
-      r8.flags[i] = 0;
-    }
+    toRay8(rays + base, lanes, frameOrigin_, r8, valid);
     QueryContext ctx;
     rtcInitIntersectContext(&ctx.base);
     // Neighbouring points' shadow rays, but told to Embree as incoherent:

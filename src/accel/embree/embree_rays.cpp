@@ -1,0 +1,151 @@
+#include "accel/embree/embree_rays.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace lray {
+
+namespace {
+
+constexpr float kInfinityF = std::numeric_limits<float>::infinity();
+
+/// One lane of toRay8: what toRay1 writes, in lane `i` of `r`.
+void toLane(const Ray &ray, const Vec3 &origin, RTCRay8 &r, unsigned i) {
+  r.org_x[i] = static_cast<float>(ray.o.x - origin.x);
+  r.org_y[i] = static_cast<float>(ray.o.y - origin.y);
+  r.org_z[i] = static_cast<float>(ray.o.z - origin.z);
+  r.dir_x[i] = static_cast<float>(ray.d.x);
+  r.dir_y[i] = static_cast<float>(ray.d.y);
+  r.dir_z[i] = static_cast<float>(ray.d.z);
+  r.tnear[i] = std::max(0.0f, roundDown(ray.tMin));
+  r.tfar[i] = roundUp(ray.tMax);
+}
+
+// Four rays at a time in vectors (one AVX register of doubles where the
+// build targets AVX, SSE2 pairs on the baseline target): the same
+// conversions lane by lane as toLane. Vectors never cross a call.
+using D4 = double __attribute__((vector_size(32)));
+using F4 = float __attribute__((vector_size(16)));
+using L4 = int64_t __attribute__((vector_size(32)));
+
+static_assert(offsetof(Ray, o) == 0 && offsetof(Ray, d) == 24 && offsetof(Ray, tMin) == 48 &&
+              offsetof(Ray, tMax) == 56);
+
+[[gnu::always_inline]] inline void load(D4 &v, const double *p) { std::memcpy(&v, p, sizeof v); }
+
+/// Lanes [at, at + 4) of `r` from rays[0, 4); false where a bound of the
+/// valid interval is not a float, which toLane then rounds outwards.
+[[gnu::always_inline]] inline bool toFourLanes(const Ray *rays, const Vec3 &origin, RTCRay8 &r,
+                                                 unsigned at) {
+  // (o.x, o.y, o.z, d.x) and (d.y, d.z, tMin, tMax) of each ray, loaded
+  // whole (copies through an array went by the stack).
+  D4 a[4], b[4];
+  load(a[0], &rays[0].o.x), load(a[1], &rays[1].o.x), load(a[2], &rays[2].o.x);
+  load(a[3], &rays[3].o.x), load(b[0], &rays[0].d.y), load(b[1], &rays[1].d.y);
+  load(b[2], &rays[2].d.y), load(b[3], &rays[3].d.y);
+  // Transposed: each vector one field of the four rays.
+  const D4 a01e = __builtin_shuffle(a[0], a[1], L4{0, 4, 2, 6});
+  const D4 a01o = __builtin_shuffle(a[0], a[1], L4{1, 5, 3, 7});
+  const D4 a23e = __builtin_shuffle(a[2], a[3], L4{0, 4, 2, 6});
+  const D4 a23o = __builtin_shuffle(a[2], a[3], L4{1, 5, 3, 7});
+  const D4 b01e = __builtin_shuffle(b[0], b[1], L4{0, 4, 2, 6});
+  const D4 b01o = __builtin_shuffle(b[0], b[1], L4{1, 5, 3, 7});
+  const D4 b23e = __builtin_shuffle(b[2], b[3], L4{0, 4, 2, 6});
+  const D4 b23o = __builtin_shuffle(b[2], b[3], L4{1, 5, 3, 7});
+  const D4 ox = __builtin_shuffle(a01e, a23e, L4{0, 1, 4, 5});
+  const D4 oz = __builtin_shuffle(a01e, a23e, L4{2, 3, 6, 7});
+  const D4 oy = __builtin_shuffle(a01o, a23o, L4{0, 1, 4, 5});
+  const D4 dx = __builtin_shuffle(a01o, a23o, L4{2, 3, 6, 7});
+  const D4 dy = __builtin_shuffle(b01e, b23e, L4{0, 1, 4, 5});
+  const D4 tMin = __builtin_shuffle(b01e, b23e, L4{2, 3, 6, 7});
+  const D4 dz = __builtin_shuffle(b01o, b23o, L4{0, 1, 4, 5});
+  const D4 tMax = __builtin_shuffle(b01o, b23o, L4{2, 3, 6, 7});
+  auto put = [at](float *field, const D4 &v) {
+    const F4 f = __builtin_convertvector(v, F4);
+    std::memcpy(field + at, &f, sizeof(F4));
+  };
+  put(r.org_x, ox - origin.x);
+  put(r.org_y, oy - origin.y);
+  put(r.org_z, oz - origin.z);
+  put(r.dir_x, dx);
+  put(r.dir_y, dy);
+  put(r.dir_z, dz);
+  const F4 tNear = __builtin_convertvector(tMin, F4), tFar = __builtin_convertvector(tMax, F4);
+  const F4 zero = {};
+  const F4 clamped = zero < tNear ? tNear : zero; // std::max(0.0f, t): NaN and -0 give 0
+  std::memcpy(r.tnear + at, &clamped, sizeof(F4));
+  std::memcpy(r.tfar + at, &tFar, sizeof(F4));
+  const L4 inexact = (__builtin_convertvector(tNear, D4) > tMin) |
+                     (__builtin_convertvector(tFar, D4) < tMax);
+  return !(inexact[0] | inexact[1] | inexact[2] | inexact[3]);
+}
+
+} // namespace
+
+float roundDown(double x) {
+  auto f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -kInfinityF) : f;
+}
+
+float roundUp(double x) {
+  auto f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, kInfinityF) : f;
+}
+
+void toRay1(const Ray &ray, const Vec3 &origin, RTCRay &r) {
+  r.org_x = static_cast<float>(ray.o.x - origin.x);
+  r.org_y = static_cast<float>(ray.o.y - origin.y);
+  r.org_z = static_cast<float>(ray.o.z - origin.z);
+  r.dir_x = static_cast<float>(ray.d.x);
+  r.dir_y = static_cast<float>(ray.d.y);
+  r.dir_z = static_cast<float>(ray.d.z);
+  r.tnear = std::max(0.0f, roundDown(ray.tMin));
+  r.tfar = roundUp(ray.tMax);
+  r.time = ray.time;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+}
+
+void toRayHit1(const Ray &ray, const Vec3 &origin, RTCRayHit &rh) {
+  toRay1(ray, origin, rh.ray);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+void toRay8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRay8 &r, int *valid) {
+  static constexpr int kValid[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  static constexpr unsigned kMask[8] = {~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};
+  static constexpr unsigned kIds[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  std::memcpy(r.mask, kMask, sizeof kMask);
+  std::memcpy(r.id, kIds, sizeof kIds);
+  std::memset(r.flags, 0, sizeof r.flags);
+  if (lanes == 8) {
+    std::memcpy(valid, kValid, sizeof kValid);
+    for (unsigned i = 0; i < 8; ++i) r.time[i] = rays[i].time;
+  } else {
+    for (unsigned i = 0; i < 8; ++i) {
+      valid[i] = i < lanes ? -1 : 0;
+      r.time[i] = rays[i < lanes ? i : 0].time;
+    }
+  }
+  for (unsigned at = 0; at < 8; at += 4) {
+    if (at + 4 <= lanes && toFourLanes(rays + at, origin, r, at)) continue;
+    for (unsigned i = at; i < at + 4; ++i) toLane(rays[i < lanes ? i : 0], origin, r, i);
+  }
+}
+
+void toRayHit8(const Ray *rays, size_t lanes, const Vec3 &origin, RTCRayHit8 &rh, int *valid,
+               double *bestT) {
+  toRay8(rays, lanes, origin, rh.ray, valid);
+  for (unsigned i = 0; i < 8; ++i) {
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    bestT[i] = rays[i < lanes ? i : 0].tMax;
+  }
+}
+
+} // namespace lray

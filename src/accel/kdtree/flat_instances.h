@@ -3,7 +3,8 @@
 // four shapes) as a list of boxes: each ray tests, in the scene's order,
 // the entities whose boxes its segment crosses. The top-level tree's walk
 // (ray set-up, a handful of nodes, a mailbox) cost such scenes more than
-// the box tests do; a nearest hit is the same either way.
+// the box tests do; a nearest hit is the same either way. Also the few
+// entities a run of camera rays may meet in a larger scene (ray_fan.h).
 #pragma once
 
 #include "accel/kdtree/kd_tree.h"
@@ -12,6 +13,7 @@
 #include "math/ray.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -28,21 +30,27 @@ public:
   /// Entity i's box is boxes[i]; none kept (empty()) beyond kMaxInstances.
   explicit FlatInstances(const std::vector<Bounds3> &boxes) {
     if (boxes.size() > kMaxInstances) return;
-    boxes_ = boxes;
-    for (const Bounds3 &b : boxes) all_.extend(b);
-    groups_.resize((boxes.size() + kLanes - 1) / kLanes);
-    for (size_t i = 0; i < boxes.size(); ++i) {
-      Group &g = groups_[i / kLanes];
-      for (int a = 0; a < 3; ++a) {
-        g.lo[a][i % kLanes] = boxes[i].lo[a];
-        g.hi[a][i % kLanes] = boxes[i].hi[a];
-      }
+    for (uint32_t i = 0; i < boxes.size(); ++i) add(boxes[i], i);
+  }
+  /// Keeps `box` as entity `id`'s, after those kept before; at most
+  /// kMaxInstances.
+  void add(const Bounds3 &box, uint32_t id) {
+    const uint32_t i = count_++;
+    boxes_[i] = box;
+    ids_[i] = id;
+    all_.extend(box);
+    Group &g = groups_[i / kLanes];
+    for (int a = 0; a < 3; ++a) {
+      g.lo[a][i % kLanes] = box.lo[a];
+      g.hi[a][i % kLanes] = box.hi[a];
     }
   }
-  bool empty() const { return boxes_.empty(); }
+  bool empty() const { return count_ == 0; }
+  bool full() const { return count_ == kMaxInstances; }
 
-  /// test(i, tBest) for each entity i whose box the segment (tMin, tBest)
-  /// of `ray` crosses, in index order; AnyHit: until a test returns true.
+  /// test(id, tBest) for each entity whose box the segment (tMin, tBest)
+  /// of `ray` crosses, in the order they were kept; AnyHit: until a test
+  /// returns true.
   /// Whether any test did.
   template <bool AnyHit, class Test>
   [[gnu::always_inline]] bool forEachCrossed(const Ray &ray, double &tBest, Test &&test) const {
@@ -52,9 +60,9 @@ public:
     if (!crosses(all_, o, d, invD, ray.tMin, tBest)) return false;
     bool hit = false;
     if (d[0] == 0 || d[1] == 0 || d[2] == 0) { // a parallel axis: box by box
-      for (uint32_t i = 0; i < boxes_.size(); ++i) {
+      for (uint32_t i = 0; i < count_; ++i) {
         if (!crosses(boxes_[i], o, d, invD, ray.tMin, tBest)) continue;
-        if (test(i, tBest)) {
+        if (test(ids_[i], tBest)) {
           hit = true;
           if (AnyHit) return true;
         }
@@ -65,13 +73,13 @@ public:
     // before its exit and the nearest hit so far.
     alignas(32) double enter[kMaxInstances];
     uint32_t crossed = 0;
-    for (size_t g = 0; g < groups_.size(); ++g)
+    for (uint32_t g = 0; g * kLanes < count_; ++g)
       crossed |= entries(groups_[g], o, invD, ray.tMin, tBest, enter + kLanes * g) << kLanes * g;
-    crossed &= (1u << boxes_.size()) - 1;
+    crossed &= (1u << count_) - 1;
     for (; crossed != 0; crossed &= crossed - 1) {
       const uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
       if (!(enter[i] <= tBest)) continue;
-      if (test(i, tBest)) {
+      if (test(ids_[i], tBest)) {
         hit = true;
         if (AnyHit) return true;
       }
@@ -125,8 +133,12 @@ private:
     return packet_lanes::bits(tEnter <= tExit);
   }
 
-  std::vector<Bounds3> boxes_;
-  std::vector<Group> groups_;
+  // Fixed arrays: intersectCoherent keeps a list of its own for each run of
+  // rays (RayFan).
+  std::array<Bounds3, kMaxInstances> boxes_;
+  std::array<uint32_t, kMaxInstances> ids_;
+  std::array<Group, kMaxInstances / kLanes> groups_;
+  uint32_t count_ = 0;
   Bounds3 all_; ///< their union
 };
 

@@ -12,6 +12,7 @@
 #include "accel/unbounded_shapes.h"
 #include "accel/kdtree/flat_instances.h"
 #include "accel/kdtree/kd_tree.h"
+#include "accel/kdtree/ray_fan.h"
 #include "accel/kdtree/triangle_prefilter.h"
 #include "geometry/shape.h"
 #include "geometry/shapes/sphere_bound.h"
@@ -149,9 +150,14 @@ private:
   /// Their walks over the bounded entities (the trees; no planes): the
   /// nearest find is an analytic shape's Hit in `hit`, or a triangle in
   /// `best` (then bestIsTriangle), its t in tMax; its Hit is not filled.
+  /// `list`: the entities to test instead of the whole top level (fanList).
   template <KdRays Rays>
   bool nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best, bool &bestIsTriangle,
-                      double &tMax) const;
+                      double &tMax, const FlatInstances *list = nullptr) const;
+  /// The entities whose boxes any of rays[0, n) may cross, in `list`: only
+  /// where the rays form a RayFan and at most FlatInstances::kMaxInstances
+  /// of the scene's boxes (fanBoxes_) pass it; false otherwise.
+  bool fanList(const Ray *rays, size_t n, FlatInstances &list) const;
   template <KdRays Rays> bool occludedBounded(const Ray &ray) const;
 
   const Scene &scene_;
@@ -173,6 +179,11 @@ private:
   /// The top level as a list where the scene has few bounded entities
   /// (single rays; packets walk top_).
   FlatInstances flat_;
+  /// The top level's boxes where the scene has at most kFanInstances
+  /// bounded entities (more than one): fanList culls them for a run of
+  /// camera rays.
+  std::vector<Bounds3> fanBoxes_;
+  static constexpr size_t kFanInstances = 32;
   /// Moving entities' bounds at each motion step: a ray's test at its time.
   MovingBoxes moving_;
   /// objectFromWorld of each transformed mesh instance.

@@ -207,6 +207,55 @@ TEST(KdTreeAccelerator, FewEntitiesAsAListMatchTheTreeWalk) {
   }
 }
 
+// A scene of more entities than the list takes but few enough for a fan
+// (ray_fan.h): a camera's runs of rays test only the entities their fan
+// may cross, and must find what single rays walking the top-level tree
+// find, bit for bit, in tiles where the fan forms and in those where a
+// direction's sign changes (the whole walk).
+TEST(KdTreeAccelerator, CameraRunsCulledByTheirFanMatchSingleRays) {
+  Scene scene;
+  const ShapeKind kinds[] = {ShapeKind::Sphere, ShapeKind::Cube, ShapeKind::Cylinder,
+                             ShapeKind::Cone, ShapeKind::Torus};
+  for (int i = 0; i < 20; ++i) {
+    const double a = i * 2 * kPi / 20;
+    scene.entities.push_back(shape(kinds[i % 5], Transform::translate({2.5 * std::cos(a),
+                                                                       2.5 * std::sin(a), 0}) *
+                                                     Transform::scale(0.4, 0.4, 0.4)));
+  }
+  scene.entities.push_back(meshEntity(kdtest::makeJitteredSphere(6, 12, 0.1, 7),
+                                      Transform::translate({0.5, 0.3, 1})));
+  scene.textures.emplace_back();
+  scene.pigments.emplace_back();
+  KdTreeAccelerator accel(scene);
+  ASSERT_FALSE(accel.usesPackets());
+
+  // 96x64 camera rays from z = -8, tile by tile (16x16, row-major); the
+  // middle tiles' rays change the sign of x or y.
+  std::vector<Ray> rays;
+  const int width = 96, height = 64;
+  for (int ty = 0; ty < height; ty += 16)
+    for (int tx = 0; tx < width; tx += 16)
+      for (int y = ty; y < ty + 16; ++y)
+        for (int x = tx; x < tx + 16; ++x)
+          rays.push_back({{0.1, 0.2, -8}, {(x - 50 + 0.5) / 96.0, (30 - y - 0.5) / 96.0, 1}});
+  std::vector<Hit> batch(rays.size());
+  std::vector<uint8_t> found(rays.size(), 9);
+  for (size_t first = 0; first < rays.size(); first += 256)
+    accel.intersectCoherent(rays.data() + first, 256, batch.data() + first, found.data() + first);
+  int hits = 0, meshHits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    const bool f = accel.intersect(rays[i], single);
+    ASSERT_EQ(found[i], f ? 1 : 0) << i;
+    if (!f) continue;
+    testing::expectSameHit(batch[i], single);
+    ++hits;
+    meshHits += single.entity == 20;
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(meshHits, 50);
+}
+
 // Packets (a scene with a large mesh): intersectCoherent and
 // occludedCoherent must agree with single rays field for field, for a
 // camera's tiles (rays in rows of 16, as the renderer issues them), the

@@ -77,6 +77,42 @@ TEST(SphereBound, SettlesOnlyLinesTheSphereMisses) {
   EXPECT_GT(settled, lines / 5);
 }
 
+TEST(SphereBound, FourLanesAreFourLines) {
+  // missesLines decides each lane as missesLine does its ray, bit for bit:
+  // lines on both sides of the margin, far origins, NaN.
+  std::mt19937_64 rng(44);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  int settled = 0, open = 0;
+  for (int p = 0; p < 200; ++p) {
+    const double size = std::pow(10.0, 3 * u(rng));
+    const Transform xf = Transform::translate(Vec3(u(rng), u(rng), u(rng)) * 100) *
+                         Transform::rotate(randomUnit(rng), 90 * u(rng)) *
+                         Transform::scale(size, size * (1 + 0.5 * std::fabs(u(rng))), size);
+    const SphereBound bound(xf);
+    const Vec3 centre = xf.applyPoint({0, 0, 0});
+    for (int k = 0; k < 50; ++k) {
+      Ray rays[4];
+      for (Ray &r : rays) {
+        const Vec3 d = randomUnit(rng);
+        Vec3 side = cross(d, randomUnit(rng));
+        side = side / length(side);
+        const double pass = size * 1.5 * (1 + 0.002 * u(rng)) * std::fabs(u(rng)) * 2;
+        r = line(centre + side * pass - d * (size * std::pow(10.0, 8 * std::fabs(u(rng)))), d);
+        if (rng() % 50 == 0) r.o.y = nan;
+      }
+      const Ray *const four[4] = {&rays[0], &rays[1], &rays[2], &rays[3]};
+      const uint32_t bits = bound.missesLines(four);
+      for (int i = 0; i < 4; ++i) {
+        ASSERT_EQ((bits >> i & 1u) != 0, bound.missesLine(rays[i])) << p << " " << k << " " << i;
+        (bound.missesLine(rays[i]) ? settled : open) += 1;
+      }
+    }
+  }
+  EXPECT_GT(settled, 5000);
+  EXPECT_GT(open, 5000);
+}
+
 TEST(SphereBound, SettlesClearMissesOfASimilarity) {
   const Transform xf = Transform::translate({30, -2, 7}) * Transform::rotate({1, 2, 3}, 40) *
                        Transform::scale(2.5, 2.5, 2.5);

@@ -28,6 +28,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -265,17 +266,41 @@ struct EmbreeCallbacks {
   static void occludedShapeLanes(const RTCOccludedFunctionNArguments *args,
                                  const EmbreeAccelerator::ShapeRef &shape,
                                  const MovingBoxes *moving) {
-    if (shape.stillSphere)
-      return occludedLanes(args, [&shape](const Ray &ray, float tfar) {
-        return !shape.sphereBound.missesLine(ray) &&
-               occludedStillSphere(*shape.entity, ray,
-                                   std::min(ray.tMax, static_cast<double>(tfar)));
-      });
+    if (shape.stillSphere) return occludedSphereLanes(args, shape);
     occludedLanes(args, [&shape, moving](const Ray &ray, float tfar) {
       const double tMax = std::min(ray.tMax, static_cast<double>(tfar));
       if (moving && moving->misses(shape.index, ray, tMax)) return false;
       return occludedShape(*shape.entity, ray, tMax);
     });
+  }
+
+  /// occludedLanes for a still sphere: its bound (SphereBound) settles the
+  /// lanes four at a time first; the rest take occludedStillSphere.
+  static void occludedSphereLanes(const RTCOccludedFunctionNArguments *args,
+                                  const EmbreeAccelerator::ShapeRef &shape) {
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    for (unsigned base = 0; base < n; base += 4) {
+      // Lanes past N, invalid or occluded read the packet's first ray.
+      const Ray *rays[4] = {ctx->rays, ctx->rays, ctx->rays, ctx->rays};
+      uint32_t open = 0;
+      for (unsigned k = 0; k < 4 && base + k < n; ++k) {
+        const unsigned i = base + k;
+        if (!args->valid[i] || RTCRayN_tfar(args->ray, n, i) < 0) continue;
+        rays[k] = &ctx->rays[RTCRayN_id(args->ray, n, i)];
+        open |= 1u << k;
+      }
+      if (open == 0) continue;
+      if (n >= 4) open &= ~shape.sphereBound.missesLines(rays);
+      for (; open != 0; open &= open - 1) {
+        const unsigned k = static_cast<unsigned>(std::countr_zero(open));
+        float &tfar = RTCRayN_tfar(args->ray, n, base + k);
+        if (n < 4 && shape.sphereBound.missesLine(*rays[k])) continue;
+        if (occludedStillSphere(*shape.entity, *rays[k],
+                                std::min(rays[k]->tMax, static_cast<double>(tfar))))
+          tfar = -kInfinityF;
+      }
+    }
   }
 
   /// Marks each valid lane not yet occluded whose ray (the caller's double

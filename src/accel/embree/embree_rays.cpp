@@ -1,5 +1,7 @@
 #include "accel/embree/embree_rays.h"
 
+#include "math/ray_lanes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -24,63 +26,38 @@ void toLane(const Ray &ray, const Vec3 &origin, RTCRay8 &r, unsigned i) {
   r.tfar[i] = roundUp(ray.tMax);
 }
 
-// Four rays at a time in vectors (one AVX register of doubles where the
-// build targets AVX, SSE2 pairs on the baseline target): the same
-// conversions lane by lane as toLane. Vectors never cross a call.
-using D4 = double __attribute__((vector_size(32)));
+// Four rays at a time in vectors (math/ray_lanes.h): the same conversions
+// lane by lane as toLane.
+using lanes::Lanes;
+using lanes::Mask;
 using F4 = float __attribute__((vector_size(16)));
-using L4 = int64_t __attribute__((vector_size(32)));
-
-static_assert(offsetof(Ray, o) == 0 && offsetof(Ray, d) == 24 && offsetof(Ray, tMin) == 48 &&
-              offsetof(Ray, tMax) == 56);
-
-[[gnu::always_inline]] inline void load(D4 &v, const double *p) { std::memcpy(&v, p, sizeof v); }
 
 /// Lanes [at, at + 4) of `r` from rays[0, 4); false where a bound of the
 /// valid interval is not a float, which toLane then rounds outwards.
 [[gnu::always_inline]] inline bool toFourLanes(const Ray *rays, const Vec3 &origin, RTCRay8 &r,
                                                  unsigned at) {
-  // (o.x, o.y, o.z, d.x) and (d.y, d.z, tMin, tMax) of each ray, loaded
-  // whole (copies through an array went by the stack).
-  D4 a[4], b[4];
-  load(a[0], &rays[0].o.x), load(a[1], &rays[1].o.x), load(a[2], &rays[2].o.x);
-  load(a[3], &rays[3].o.x), load(b[0], &rays[0].d.y), load(b[1], &rays[1].d.y);
-  load(b[2], &rays[2].d.y), load(b[3], &rays[3].d.y);
-  // Transposed: each vector one field of the four rays.
-  const D4 a01e = __builtin_shuffle(a[0], a[1], L4{0, 4, 2, 6});
-  const D4 a01o = __builtin_shuffle(a[0], a[1], L4{1, 5, 3, 7});
-  const D4 a23e = __builtin_shuffle(a[2], a[3], L4{0, 4, 2, 6});
-  const D4 a23o = __builtin_shuffle(a[2], a[3], L4{1, 5, 3, 7});
-  const D4 b01e = __builtin_shuffle(b[0], b[1], L4{0, 4, 2, 6});
-  const D4 b01o = __builtin_shuffle(b[0], b[1], L4{1, 5, 3, 7});
-  const D4 b23e = __builtin_shuffle(b[2], b[3], L4{0, 4, 2, 6});
-  const D4 b23o = __builtin_shuffle(b[2], b[3], L4{1, 5, 3, 7});
-  const D4 ox = __builtin_shuffle(a01e, a23e, L4{0, 1, 4, 5});
-  const D4 oz = __builtin_shuffle(a01e, a23e, L4{2, 3, 6, 7});
-  const D4 oy = __builtin_shuffle(a01o, a23o, L4{0, 1, 4, 5});
-  const D4 dx = __builtin_shuffle(a01o, a23o, L4{2, 3, 6, 7});
-  const D4 dy = __builtin_shuffle(b01e, b23e, L4{0, 1, 4, 5});
-  const D4 tMin = __builtin_shuffle(b01e, b23e, L4{2, 3, 6, 7});
-  const D4 dz = __builtin_shuffle(b01o, b23o, L4{0, 1, 4, 5});
-  const D4 tMax = __builtin_shuffle(b01o, b23o, L4{2, 3, 6, 7});
-  auto put = [at](float *field, const D4 &v) {
-    const F4 f = __builtin_convertvector(v, F4);
-    std::memcpy(field + at, &f, sizeof(F4));
+  const Ray *const four[4] = {rays, rays + 1, rays + 2, rays + 3};
+  lanes::RayLanes f;
+  lanes::loadRays(four, f);
+  auto put = [at](float *field, const Lanes &v) {
+    const F4 narrow = __builtin_convertvector(v, F4);
+    std::memcpy(field + at, &narrow, sizeof(F4));
   };
-  put(r.org_x, ox - origin.x);
-  put(r.org_y, oy - origin.y);
-  put(r.org_z, oz - origin.z);
-  put(r.dir_x, dx);
-  put(r.dir_y, dy);
-  put(r.dir_z, dz);
-  const F4 tNear = __builtin_convertvector(tMin, F4), tFar = __builtin_convertvector(tMax, F4);
+  put(r.org_x, f.ox - origin.x);
+  put(r.org_y, f.oy - origin.y);
+  put(r.org_z, f.oz - origin.z);
+  put(r.dir_x, f.dx);
+  put(r.dir_y, f.dy);
+  put(r.dir_z, f.dz);
+  const F4 tNear = __builtin_convertvector(f.tMin, F4);
+  const F4 tFar = __builtin_convertvector(f.tMax, F4);
   const F4 zero = {};
   const F4 clamped = zero < tNear ? tNear : zero; // std::max(0.0f, t): NaN and -0 give 0
   std::memcpy(r.tnear + at, &clamped, sizeof(F4));
   std::memcpy(r.tfar + at, &tFar, sizeof(F4));
-  const L4 inexact = (__builtin_convertvector(tNear, D4) > tMin) |
-                     (__builtin_convertvector(tFar, D4) < tMax);
-  return !(inexact[0] | inexact[1] | inexact[2] | inexact[3]);
+  const Mask inexact = (__builtin_convertvector(tNear, Lanes) > f.tMin) |
+                       (__builtin_convertvector(tFar, Lanes) < f.tMax);
+  return lanes::bits(inexact) == 0;
 }
 
 } // namespace

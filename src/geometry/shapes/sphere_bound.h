@@ -6,8 +6,11 @@
 #pragma once
 
 #include "math/ray.h"
+#include "math/ray_lanes.h"
 #include "math/transform.h"
 #include "math/vec3.h"
+
+#include <cstdint>
 
 namespace lray {
 
@@ -40,6 +43,22 @@ public:
     const double h = dot(oc, worldRay.d);
     const double oo = dot(oc, oc);
     return oo < farSq_ && oo * a - h * h > a * radiusSq_ + 1e-12 * oo * a;
+  }
+
+  /// missesLine of *rays[0..3] at once, lane by lane the same operations
+  /// (math/lanes.h): bit k set where the line of *rays[k] is settled.
+  [[gnu::always_inline]] uint32_t missesLines(const Ray *const (&rays)[4]) const {
+    using lanes::Lanes;
+    lanes::RayLanes r;
+    lanes::loadRays(rays, r);
+    Lanes farSq, radiusSq;
+    lanes::splat(farSq_, farSq);
+    lanes::splat(radiusSq_, radiusSq);
+    const Lanes ocx = r.ox - centre_.x, ocy = r.oy - centre_.y, ocz = r.oz - centre_.z;
+    const Lanes a = r.dx * r.dx + r.dy * r.dy + r.dz * r.dz;
+    const Lanes h = ocx * r.dx + ocy * r.dy + ocz * r.dz;
+    const Lanes oo = ocx * ocx + ocy * ocy + ocz * ocz;
+    return lanes::bits((oo < farSq) & (oo * a - h * h > a * radiusSq + 1e-12 * oo * a));
   }
 
   static constexpr double kClearMargin = 1e-3;

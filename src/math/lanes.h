@@ -1,0 +1,54 @@
+// Pipeline: math. Four doubles in one vector, an AVX register where the
+// build targets AVX (LRAY_NATIVE) and SSE2 pairs on the baseline target:
+// code that treats four rays, boxes or lanes at once with the scalar
+// code's operations lane by lane, so that its decisions are the same bit
+// for bit (the kd-tree's packets, accel/kdtree/packet_lanes.h; four rays'
+// fields, math/ray_lanes.h).
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <emmintrin.h>
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
+
+namespace lray::lanes {
+
+constexpr int kWidth = 4;
+// 32-byte vectors, whose passing by value differs between the baseline and
+// AVX ABIs: the functions here take and give them by reference (-Wpsabi).
+using Lanes = double __attribute__((vector_size(kWidth * sizeof(double))));
+using Mask = int64_t __attribute__((vector_size(kWidth * sizeof(int64_t))));
+
+/// x in every lane.
+[[gnu::always_inline]] inline void splat(double x, Lanes &out) { out = Lanes{x, x, x, x}; }
+
+/// Four doubles from memory (any alignment).
+[[gnu::always_inline]] inline void load(const double *p, Lanes &out) {
+  std::memcpy(&out, p, sizeof out);
+}
+
+/// std::fabs lane-wise, in place: the sign bits cleared.
+[[gnu::always_inline]] inline void clearSigns(Lanes &v) {
+  Mask bits;
+  std::memcpy(&bits, &v, sizeof v);
+  bits &= ~(Mask{} + INT64_MIN);
+  std::memcpy(&v, &bits, sizeof v);
+}
+
+/// Bit k set where lane k of a comparison's mask is true.
+[[gnu::always_inline]] inline uint32_t bits(const Mask &m) {
+#ifdef __AVX__
+  __m256d v;
+  std::memcpy(&v, &m, sizeof v);
+  return static_cast<uint32_t>(_mm256_movemask_pd(v));
+#else
+  __m128d lo, hi;
+  std::memcpy(&lo, &m, sizeof lo);
+  std::memcpy(&hi, reinterpret_cast<const char *>(&m) + sizeof lo, sizeof hi);
+  return static_cast<uint32_t>(_mm_movemask_pd(lo) | _mm_movemask_pd(hi) << 2);
+#endif
+}
+
+} // namespace lray::lanes

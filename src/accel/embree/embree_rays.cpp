@@ -14,16 +14,23 @@ namespace {
 
 constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 
+/// The single-precision fields of `ray` (toRay1, and a lane of toRay8).
+void toFloats(const Ray &ray, const Vec3 &origin, float &ox, float &oy, float &oz, float &dx,
+              float &dy, float &dz, float &tnear, float &tfar) {
+  ox = static_cast<float>(ray.o.x - origin.x);
+  oy = static_cast<float>(ray.o.y - origin.y);
+  oz = static_cast<float>(ray.o.z - origin.z);
+  dx = static_cast<float>(ray.d.x);
+  dy = static_cast<float>(ray.d.y);
+  dz = static_cast<float>(ray.d.z);
+  tnear = std::max(0.0f, roundDown(ray.tMin));
+  tfar = roundUp(ray.tMax);
+}
+
 /// One lane of toRay8: what toRay1 writes, in lane `i` of `r`.
 void toLane(const Ray &ray, const Vec3 &origin, RTCRay8 &r, unsigned i) {
-  r.org_x[i] = static_cast<float>(ray.o.x - origin.x);
-  r.org_y[i] = static_cast<float>(ray.o.y - origin.y);
-  r.org_z[i] = static_cast<float>(ray.o.z - origin.z);
-  r.dir_x[i] = static_cast<float>(ray.d.x);
-  r.dir_y[i] = static_cast<float>(ray.d.y);
-  r.dir_z[i] = static_cast<float>(ray.d.z);
-  r.tnear[i] = std::max(0.0f, roundDown(ray.tMin));
-  r.tfar[i] = roundUp(ray.tMax);
+  toFloats(ray, origin, r.org_x[i], r.org_y[i], r.org_z[i], r.dir_x[i], r.dir_y[i], r.dir_z[i],
+           r.tnear[i], r.tfar[i]);
 }
 
 // Four rays at a time in vectors (math/ray_lanes.h): the same conversions
@@ -73,14 +80,7 @@ float roundUp(double x) {
 }
 
 void toRay1(const Ray &ray, const Vec3 &origin, RTCRay &r) {
-  r.org_x = static_cast<float>(ray.o.x - origin.x);
-  r.org_y = static_cast<float>(ray.o.y - origin.y);
-  r.org_z = static_cast<float>(ray.o.z - origin.z);
-  r.dir_x = static_cast<float>(ray.d.x);
-  r.dir_y = static_cast<float>(ray.d.y);
-  r.dir_z = static_cast<float>(ray.d.z);
-  r.tnear = std::max(0.0f, roundDown(ray.tMin));
-  r.tfar = roundUp(ray.tMax);
+  toFloats(ray, origin, r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
   r.time = ray.time;
   r.mask = 0xFFFFFFFFu;
   r.id = 0;

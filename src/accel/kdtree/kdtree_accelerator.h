@@ -114,13 +114,13 @@ private:
   template <bool AnyHit>
   bool testMovingLeaf(const MeshTree &mt, const WatertightRay &wray, double time, uint32_t offset,
                       uint32_t count, double &tTri, MeshHit &hit) const;
-  /// `ray` (world space) in the object space of mesh instance `inst`.
   /// An analytic instance: true only where it is a still sphere that the
   /// line of `ray` passes by a clear margin (SphereBound), so that its own
   /// test would find nothing.
   bool passesStillSphere(const Instance &inst, const Ray &ray) const {
     return inst.transform != kIdentity && sphereBounds_[inst.transform].missesLine(ray);
   }
+  /// `ray` (world space) in the object space of mesh instance `inst`.
   Ray objectRayOf(const Instance &inst, const Ray &ray) const {
     if (inst.transform == kIdentity) return ray;
     if (inst.transform == kMoving) return objectSpaceRay(scene_.entities[inst.entity], ray);

@@ -65,6 +65,20 @@ bool bruteForce(const Scene &scene, const Ray &ray, Hit &hit) {
   return found;
 }
 
+/// A pinhole camera's rays from `eye` as the renderer issues them: tile by
+/// tile (16x16, row-major), pixel (x, y) through (x - cx + 0.5, cy - y - 0.5,
+/// width * depth) / width.
+std::vector<Ray> cameraTiles(int width, int height, const Vec3 &eye, int cx, int cy,
+                             double depth) {
+  std::vector<Ray> rays;
+  for (int ty = 0; ty < height; ty += 16)
+    for (int tx = 0; tx < width; tx += 16)
+      for (int y = ty; y < ty + 16; ++y)
+        for (int x = tx; x < tx + 16; ++x)
+          rays.push_back({eye, {(x - cx + 0.5) / width, (cy - y - 0.5) / width, depth}});
+  return rays;
+}
+
 Scene mixedScene() {
   Scene scene;
   MeshDataPtr ball = kdtest::makeJitteredSphere(12, 24, 0.1, 1);
@@ -229,15 +243,9 @@ TEST(KdTreeAccelerator, CameraRunsCulledByTheirFanMatchSingleRays) {
   KdTreeAccelerator accel(scene);
   ASSERT_FALSE(accel.usesPackets());
 
-  // 96x64 camera rays from z = -8, tile by tile (16x16, row-major); the
-  // middle tiles' rays change the sign of x or y.
-  std::vector<Ray> rays;
-  const int width = 96, height = 64;
-  for (int ty = 0; ty < height; ty += 16)
-    for (int tx = 0; tx < width; tx += 16)
-      for (int y = ty; y < ty + 16; ++y)
-        for (int x = tx; x < tx + 16; ++x)
-          rays.push_back({{0.1, 0.2, -8}, {(x - 50 + 0.5) / 96.0, (30 - y - 0.5) / 96.0, 1}});
+  // 96x64 camera rays from z = -8; the middle tiles' rays change the sign
+  // of x or y.
+  std::vector<Ray> rays = cameraTiles(96, 64, {0.1, 0.2, -8}, 50, 30, 1);
   std::vector<Hit> batch(rays.size());
   std::vector<uint8_t> found(rays.size(), 9);
   for (size_t first = 0; first < rays.size(); first += 256)
@@ -278,14 +286,8 @@ TEST(KdTreeAccelerator, PacketsMatchSingleRaysBitForBit) {
   ASSERT_TRUE(accel.usesPackets());
   ASSERT_EQ(accel.meshTreeCount(), 2u);
 
-  // 64x48 camera rays from z = -4, tile by tile (16x16, row-major).
-  std::vector<Ray> rays;
-  const int width = 64, height = 48;
-  for (int ty = 0; ty < height; ty += 16)
-    for (int tx = 0; tx < width; tx += 16)
-      for (int y = ty; y < ty + 16; ++y)
-        for (int x = tx; x < tx + 16; ++x)
-          rays.push_back({{0.3, 0.1, -4}, {(x - 32 + 0.5) / 64.0, (24 - y - 0.5) / 64.0, 1.5}});
+  // 64x48 camera rays from z = -4.
+  std::vector<Ray> rays = cameraTiles(64, 48, {0.3, 0.1, -4}, 32, 24, 1.5);
   Rng rng(9);
   for (int i = 0; i < 2500; ++i) {
     Vec3 o = rng.inBox({-8, -8, -8}, {8, 8, 8});

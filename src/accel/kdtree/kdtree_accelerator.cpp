@@ -531,6 +531,7 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
 bool KdTreeAccelerator::fanList(const Ray *rays, size_t n, FlatInstances &list) const {
   RayFan fan;
   if (fanBoxes_.empty() || !fan.gather(rays, n)) return false;
+  list = FlatInstances();
   for (uint32_t i = 0; i < fanBoxes_.size(); ++i) {
     if (!fan.mayCross(fanBoxes_[i])) continue;
     if (list.full()) return false;
@@ -553,10 +554,8 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
   FlatInstances fan;
   const FlatInstances *list = nullptr;
   for (size_t chunk = 0; chunk < count; chunk += kChunk) {
-    if (!usePackets_ && chunk % kFanRun == 0) {
-      fan = FlatInstances();
+    if (!usePackets_ && chunk % kFanRun == 0)
       list = fanList(rays + chunk, std::min(kFanRun, count - chunk), fan) ? &fan : nullptr;
-    }
     const size_t chunkEnd = std::min(count, chunk + kChunk);
     size_t nq = 0;
     auto addQuery = [&](const TriangleCandidate &best, double t, size_t r) {

@@ -154,9 +154,10 @@ private:
   template <KdRays Rays>
   bool nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best, bool &bestIsTriangle,
                       double &tMax, const FlatInstances *list = nullptr) const;
-  /// The entities whose boxes any of rays[0, n) may cross, in `list`: only
-  /// where the rays form a RayFan and at most FlatInstances::kMaxInstances
-  /// of the scene's boxes (fanBoxes_) pass it; false otherwise.
+  /// The entities whose boxes any of rays[0, n) may cross, as `list` (what
+  /// it held is dropped): only where the rays form a RayFan and at most
+  /// FlatInstances::kMaxInstances of the scene's boxes (fanBoxes_) pass it;
+  /// false otherwise (the flat-list scenes at once: no fanBoxes_).
   bool fanList(const Ray *rays, size_t n, FlatInstances &list) const;
   template <KdRays Rays> bool occludedBounded(const Ray &ray) const;
 

@@ -14,6 +14,7 @@ neighbouring thresholds).
     bench/time_vs_error/run.py --out /tmp/tve                # once, for the references
     bench/time_vs_error/rays_to_error.py --tve /tmp/tve --lray build/lray
     bench/time_vs_error/rays_to_error.py --tve /tmp/tve --lray /tmp/other/lray --scenes ring
+    bench/time_vs_error/rays_to_error.py --tve /tmp/tve --flags "--edge-lattice 5 --sparse-centres"
 
 Needs numpy and PIL (scripts/setup --bench: build/peers/bin/python).
 """
@@ -23,6 +24,7 @@ import csv
 import json
 import math
 import os
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -58,6 +60,8 @@ def main():
     ap.add_argument("--lray", default=os.path.join(ROOT, "build", "lray"))
     ap.add_argument("--scenes", default="", help="comma-separated (default: the run's)")
     ap.add_argument("--ladder", default=",".join(str(t) for t in LADDER))
+    ap.add_argument("--flags", default="",
+                    help="more lray options for every render, e.g. '--edge-lattice 5 --sparse-centres'")
     args = ap.parse_args()
     rows = list(csv.DictReader(open(os.path.join(args.tve, "results.csv"))))
     scenes = args.scenes.split(",") if args.scenes else sorted({r["scene"] for r in rows
@@ -81,7 +85,7 @@ def main():
             cmd = [args.lray, os.path.join(SCENES, scene + ".lua"), out, "--backend", "embree",
                    "-t", "2", "-w", str(width), "-H", str(height), "--linear", "-q", "--stats",
                    stats, "--noise-threshold", str(t), "--min-samples", "1", "--max-samples",
-                   "256"]
+                   "256"] + shlex.split(args.flags)
             if scene == "ring":
                 cmd += ["--frames", "10"]  # as run.py renders it
             subprocess.run(cmd, check=True)

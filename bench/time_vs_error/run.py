@@ -275,6 +275,10 @@ class Runner:
         self.args = args
         self.out = os.path.abspath(args.out)
         self.rows = []
+        # The run just rendered (lray_render, pov_render), to time again in
+        # the later passes; and per timed row: (row, timer, walls, renders).
+        self.timer = None
+        self.timings = []
         self.lray = os.path.abspath(args.lray)
         self.flags = lray_flags(self.lray)
         self.pov = shutil.which("povray") if not args.no_pov else None
@@ -308,22 +312,21 @@ class Runner:
         if "frame" in info:
             cmd += ["--frames", str(info["frame"])]
         cmd += [str(a) for a in extra]
-        walls, renders = [], []
-        for k in range(self.args.repeat):
+        def timed_run():
+            """One run of cmd: (wall s, render s or None, the PNG it wrote)."""
             shutil.rmtree(run_dir, ignore_errors=True)
             wall, _ = run_checked(cmd)
-            walls.append(wall)
             pngs = glob.glob(os.path.join(run_dir, "*.png"))
             if len(pngs) != 1:
                 raise BenchError("%s wrote %d PNG files, expected 1:\n  %s"
                                  % (self.lray, len(pngs), shlex.join(cmd)))
             with open(stats) as f:
-                render_s = json.load(f).get("times", {}).get("render")
-            if render_s is not None:
-                renders.append(render_s)
-            if k == 0:
-                shutil.move(pngs[0], final)  # repeats only add timings
-        return statistics.median(walls), median_or_blank(renders), final, cmd
+                return wall, json.load(f).get("times", {}).get("render"), pngs[0]
+
+        wall, render_s, png = timed_run()
+        shutil.move(png, final)  # the later passes only add timings (Runner.retime)
+        self.timer = lambda: timed_run()[:2]
+        return wall, render_s, final, cmd
 
     def lray_row(self, scene, backend, mode, setting, extra, ref):
         name = "lray-%s-%s-%s" % (backend, mode, setting)
@@ -428,12 +431,11 @@ class Runner:
             cmd += ["+KFI0", "+KFF%d" % last, "+KI0", "+KF1", "+SF%d" % f, "+EF%d" % f]
         final = os.path.join(self.out, "renders", scene, name + "." + ext)
         os.makedirs(os.path.dirname(final), exist_ok=True)
-        walls, traces = [], []
-        for k in range(a.repeat):
+        def timed_run():
+            """One run of cmd: (wall s, trace s or None, the image it wrote)."""
             for old in glob.glob(os.path.join(self.pov_dir, base + "*." + ext)):
                 os.remove(old)
             wall, log = run_checked(cmd, cwd=self.pov_dir)
-            walls.append(wall)
             if re.search(r"Fatal error|Parse Error|Render error", log) and "Possible Parse Error" not in log:
                 raise BenchError("povray reported an error:\n  %s\n%s" % (shlex.join(cmd), log[-4000:]))
             images = glob.glob(os.path.join(self.pov_dir, base + "*." + ext))
@@ -441,11 +443,12 @@ class Runner:
                 raise BenchError("povray wrote %d images named %s*.%s, expected 1:\n  %s\n%s"
                                  % (len(images), base, ext, shlex.join(cmd), log[-4000:]))
             times = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
-            if times:
-                traces.append(sum(float(t) for t in times))
-            if k == 0:
-                shutil.move(images[0], final)
-        return statistics.median(walls), median_or_blank(traces), final, cmd
+            return wall, sum(float(t) for t in times) if times else None, images[0]
+
+        wall, trace_s, image = timed_run()
+        shutil.move(image, final)
+        self.timer = lambda: timed_run()[:2]
+        return wall, trace_s, final, cmd
 
     def pov_reference(self, scene):
         """POV-Ray's reference: -A at --pov-ref-scale N times the size, each
@@ -484,6 +487,10 @@ class Runner:
                "render_seconds": render_s, "image": os.path.relpath(path, self.out) if path else "",
                "command": shlex.join(cmd) if cmd else ""}
         self.rows.append(row)
+        # Every run but the references is timed again in each later pass.
+        if self.timer is not None and mode != "reference":
+            self.timings.append((row, self.timer, [seconds], [] if render_s is None else [render_s]))
+        self.timer = None
         secs = "%8.3f s" % seconds if seconds is not None else " " * 10
         print("  %-10s %-11s %-7s %-12s %-16s %s  rmse %.5f  psnr %s"
               % (scene, renderer, backend, mode, setting, secs, e, fmt_psnr(row["psnr"])), flush=True)
@@ -504,11 +511,31 @@ class Runner:
                              "lray -s %d vs povray %s"
                              % (self.args.ref_samples, pov_reference_setting(self.args)),
                              None, e, "", None, None)
+        self.retime()
         shutil.rmtree(self.tmp_dir, ignore_errors=True)
         self.write_csv()
         self.write_md()
         self.write_plot()
         print("wrote %s/results.csv, results.md, time_vs_error.png" % self.out)
+
+    def retime(self):
+        """--repeat N: N - 1 more passes, each timing every run of every
+        ladder once (POV-Ray's and LRay's, scene after scene), then each
+        row's medians. Interleaved, not N runs in a row: this machine's
+        speed drifts over minutes, and a setting timed only in a slow
+        minute, or POV-Ray's ladder in another minute than LRay's, would
+        move the ratios by as much as the renderers differ."""
+        for k in range(1, self.args.repeat):
+            print("== timing pass %d of %d (%d runs)" % (k + 1, self.args.repeat,
+                                                        len(self.timings)), flush=True)
+            for _, timer, walls, renders in self.timings:
+                wall, render_s = timer()
+                walls.append(wall)
+                if render_s is not None:
+                    renders.append(render_s)
+        for row, _, walls, renders in self.timings:
+            row["seconds"] = statistics.median(walls)
+            row["render_seconds"] = median_or_blank(renders)
 
     def write_csv(self):
         with open(os.path.join(self.out, "results.csv"), "w", newline="") as f:
@@ -531,7 +558,8 @@ class Runner:
                  "PNG values scaled to [0, 1], each image against its own renderer's reference "
                  "(LRay: `-s %d`, every light cell, embree; POV-Ray: `%s`); PSNR = 20 log10(1 / RMSE). "
                  "Seconds: wall time of the whole process; render s: LRay's "
-                 "`--stats` `times.render`, POV-Ray's trace time (medians of %d runs)."
+                 "`--stats` `times.render`, POV-Ray's trace time (medians of %d runs, in passes that "
+                 "each time every run of the ladders once; the references one run)."
                  % (a.width, a.height, a.threads, self.lray, " (--quick)" if a.quick else "",
                     self.pov or "not run", a.ref_samples, pov_reference_setting(a),
                     a.repeat), ""]
@@ -848,7 +876,8 @@ def main():
                    help="POV-Ray reference: -A at N times the size, N x N rays averaged into a "
                         "pixel (an even N, default 16)")
     p.add_argument("--repeat", type=int, default=1,
-                   help="runs per setting: medians of the wall and render times (default 1)")
+                   help="runs per setting, in N passes over all the ladders (interleaved): medians "
+                        "of the wall and render times (default 1; the references run once)")
     p.add_argument("--no-pov", action="store_true", help="skip POV-Ray even when it is on PATH")
     p.add_argument("--from-csv", action="store_true",
                    help="render nothing: rewrite results.md and the plot from --out's results.csv")

@@ -8,6 +8,7 @@
 #include "shading/image_cache.h"
 
 #include <fmt/format.h>
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <chrono>
@@ -62,8 +63,10 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   // Embree's build, parallel, woke them anyway; a small scene's kd-tree
   // build is serial, and the second thread then joined the frame's first
   // tiles 1-4 ms late in about half the runs (bench/README.md,
-  // "Throughput").
-  tbb::this_task_arena::enqueue([] {});
+  // "Throughput"). Not with one thread: TBB starts a worker for an
+  // enqueued task even then, and it would render beside the main thread.
+  if (tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1)
+    tbb::this_task_arena::enqueue([] {});
   std::unique_ptr<Accelerator> accel = makeAccelerator(backend, scene);
   stats.accel = accel->stats();
 

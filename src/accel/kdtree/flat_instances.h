@@ -49,8 +49,10 @@ public:
   bool full() const { return count_ == kMaxInstances; }
 
   /// test(id, tBest) for each entity whose box the segment (tMin, tBest)
-  /// of `ray` crosses, in the order they were kept; AnyHit: until a test
-  /// returns true.
+  /// of `ray` crosses: AnyHit, in the order they were kept, until a test
+  /// returns true; else nearest box first (see below). A test lowers tBest
+  /// to its hit, and a hit of equal t does not replace the one found
+  /// before.
   /// Whether any test did.
   template <bool AnyHit, class Test>
   [[gnu::always_inline]] bool forEachCrossed(const Ray &ray, double &tBest, Test &&test) const {
@@ -76,13 +78,26 @@ public:
     for (uint32_t g = 0; g * kLanes < count_; ++g)
       crossed |= entries(groups_[g], o, invD, ray.tMin, tBest, enter + kLanes * g) << kLanes * g;
     crossed &= (1u << count_) - 1;
-    for (; crossed != 0; crossed &= crossed - 1) {
-      const uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
-      if (!(enter[i] <= tBest)) continue;
-      if (test(ids_[i], tBest)) {
-        hit = true;
-        if (AnyHit) return true;
+    if (AnyHit) {
+      for (; crossed != 0; crossed &= crossed - 1) {
+        const uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
+        if (enter[i] <= tBest && test(ids_[i], tBest)) return true;
       }
+      return false;
+    }
+    // The nearest hit: boxes by their entry, nearest first (the first kept
+    // on equal entries), until the next one begins past the nearest hit so
+    // far. A floor's box, crossed behind the shape a ray meets, is then
+    // not tested at all.
+    while (crossed != 0) {
+      uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
+      for (uint32_t rest = crossed & (crossed - 1); rest != 0; rest &= rest - 1) {
+        const uint32_t k = static_cast<uint32_t>(__builtin_ctz(rest));
+        if (enter[k] < enter[i]) i = k;
+      }
+      if (!(enter[i] <= tBest)) break;
+      crossed &= ~(1u << i);
+      hit |= test(ids_[i], tBest);
     }
     return hit;
   }

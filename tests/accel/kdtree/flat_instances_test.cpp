@@ -40,7 +40,7 @@ std::vector<uint32_t> crossed(const FlatInstances &flat, const Ray &ray, double 
   return tested;
 }
 
-TEST(FlatInstances, TestsTheBoxesTheSegmentCrossesInOrder) {
+TEST(FlatInstances, TestsTheBoxesTheSegmentCrossesNearestFirst) {
   Rng rng(7);
   std::vector<Bounds3> boxes;
   for (size_t i = 0; i < FlatInstances::kMaxInstances; ++i) {
@@ -56,7 +56,13 @@ TEST(FlatInstances, TestsTheBoxesTheSegmentCrossesInOrder) {
     ray.d = rng.direction();
     const double tMax = k % 2 ? rng.uniform(0.5, 12) : ray.tMax;
     const std::vector<uint32_t> tested = crossed(flat, ray, tMax);
-    EXPECT_TRUE(std::is_sorted(tested.begin(), tested.end()));
+    // By their entry (equal ones within the slack either way).
+    for (size_t j = 1; j < tested.size(); ++j) {
+      double a0, a1, b0, b1;
+      meets(boxes[tested[j - 1]], ray, tMax, a0, a1);
+      meets(boxes[tested[j]], ray, tMax, b0, b1);
+      EXPECT_LE(a0, b0 + 1e-6 * (1 + std::fabs(b0))) << "ray " << k << " step " << j;
+    }
     for (uint32_t i = 0; i < boxes.size(); ++i) {
       double t0, t1;
       const bool hit = meets(boxes[i], ray, tMax, t0, t1);
@@ -109,6 +115,39 @@ TEST(FlatInstances, ANearerHitSkipsTheBoxesBeyondItAndAnyHitStopsAtTheFirst) {
     return true;
   }));
   EXPECT_EQ(tested, (std::vector<uint32_t>{0}));
+}
+
+TEST(FlatInstances, TheNearestBoxIsTestedFirstAndTheOnesPastItsHitNever) {
+  // Boxes 0 and 2 behind box 1 along the ray (no axis parallel to it, the
+  // general path); 3 and 4 alike, at box 2.
+  const Bounds3 second(Vec3(5, -1, -1), Vec3(6, 1, 1)), first(Vec3(1, -1, -1), Vec3(2, 1, 1)),
+      third(Vec3(8, -1, -1), Vec3(9, 1, 1));
+  const FlatInstances flat({second, first, third, third, third});
+  const Ray ray{Vec3(0, 0.001, 0.002), Vec3(1, 0.001, 0.001)};
+  std::vector<uint32_t> tested;
+  double tBest = ray.tMax;
+  auto record = [&](double hitAt) {
+    return [&, hitAt](uint32_t i, double &t) {
+      tested.push_back(i);
+      if (hitAt <= 0) return false;
+      t = hitAt;
+      return true;
+    };
+  };
+  // Box 1 is hit at 1.5: no other box begins before it.
+  EXPECT_TRUE(flat.forEachCrossed<false>(ray, tBest, record(1.5)));
+  EXPECT_EQ(tested, (std::vector<uint32_t>{1}));
+  EXPECT_EQ(tBest, 1.5);
+  // Nothing hit: every box, nearest first, the first kept of equal ones
+  // first.
+  tested.clear();
+  tBest = ray.tMax;
+  EXPECT_FALSE(flat.forEachCrossed<false>(ray, tBest, record(0)));
+  EXPECT_EQ(tested, (std::vector<uint32_t>{1, 0, 2, 3, 4}));
+  // Any hit: in the order kept.
+  tested.clear();
+  EXPECT_FALSE(flat.forEachCrossed<true>(ray, tBest, record(0)));
+  EXPECT_EQ(tested, (std::vector<uint32_t>{0, 1, 2, 3, 4}));
 }
 
 TEST(FlatInstances, ManyEntitiesWalkTheTreeInstead) {

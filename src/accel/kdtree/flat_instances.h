@@ -1,7 +1,8 @@
 // Pipeline: acceleration (kd-tree backend). The top level of a scene of a
 // few bounded entities (the bench's glass and pigments scenes: a floor and
-// four shapes) as a list of boxes: each ray tests, in the scene's order,
-// the entities whose boxes its segment crosses. The top-level tree's walk
+// four shapes) as a list of boxes: each ray tests the entities whose boxes
+// its segment crosses (nearest box first when it looks for the nearest
+// hit, in the scene's order for a shadow ray). The top-level tree's walk
 // (ray set-up, a handful of nodes, a mailbox) cost such scenes more than
 // the box tests do; a nearest hit is the same either way. Also the few
 // entities a run of camera rays may meet in a larger scene (ray_fan.h).
@@ -49,11 +50,10 @@ public:
   bool full() const { return count_ == kMaxInstances; }
 
   /// test(id, tBest) for each entity whose box the segment (tMin, tBest)
-  /// of `ray` crosses: AnyHit, in the order they were kept, until a test
-  /// returns true; else nearest box first (see below). A test lowers tBest
-  /// to its hit, and a hit of equal t does not replace the one found
-  /// before.
-  /// Whether any test did.
+  /// of `ray` crosses; whether any test returned true. AnyHit: in the
+  /// order they were kept, until a test returns true. Else, for the
+  /// nearest hit (a test lowers tBest to the hit it finds): nearest box
+  /// first, until the next box begins past tBest.
   template <bool AnyHit, class Test>
   [[gnu::always_inline]] bool forEachCrossed(const Ray &ray, double &tBest, Test &&test) const {
     const double o[3] = {ray.o.x, ray.o.y, ray.o.z}, d[3] = {ray.d.x, ray.d.y, ray.d.z};

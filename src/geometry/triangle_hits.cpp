@@ -6,6 +6,7 @@
 // the baseline target has no FMA and the AVX2 variant does not enable it),
 // so the hits are the same bit for bit (tests/geometry/triangle_hit_test).
 #include "math/error_bound.h"
+#include "math/lanes.h"
 #include "geometry/shape.h"
 #include "util/cpu_features.h"
 
@@ -16,12 +17,13 @@ namespace lray {
 
 namespace {
 
-constexpr int kLanes = 4; // gather() below spells out the four lanes
-// 32-byte vectors, passed differently by the baseline and AVX ABIs: every
-// function taking one is inlined, so no call crosses (-Wno-psabi for this
-// file, src/geometry/sources.cmake).
-using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
-using Mask = int64_t __attribute__((vector_size(kLanes * sizeof(int64_t))));
+// The four-double lanes of math/lanes.h (gather() below spells out the
+// four). They are passed differently by the baseline and AVX ABIs: every
+// function here taking one is inlined, so no call crosses (-Wno-psabi for
+// this file, src/geometry/sources.cmake).
+constexpr int kLanes = lanes::kWidth;
+using lanes::Lanes;
+using lanes::Mask;
 
 struct Lanes3 {
   Lanes x, y, z;
@@ -49,10 +51,7 @@ struct Lanes3 {
 }
 /// std::fabs: the sign bit cleared (a compare would keep -0).
 [[gnu::always_inline]] inline Lanes absLanes(Lanes v) {
-  Mask bits;
-  std::memcpy(&bits, &v, sizeof v);
-  bits &= ~(Mask{} + INT64_MIN);
-  std::memcpy(&v, &bits, sizeof v);
+  lanes::clearSigns(v);
   return v;
 }
 /// std::max(a, b) = a < b ? b : a.

@@ -275,9 +275,7 @@ class Runner:
         self.args = args
         self.out = os.path.abspath(args.out)
         self.rows = []
-        # The run just rendered (lray_render, pov_render), to time again in
-        # the later passes; and per timed row: (row, timer, walls, renders).
-        self.timer = None
+        # Per row timed again in the later passes: (row, timer, walls, renders).
         self.timings = []
         self.lray = os.path.abspath(args.lray)
         self.flags = lray_flags(self.lray)
@@ -298,7 +296,8 @@ class Runner:
 
     def lray_render(self, scene, backend, name, extra):
         """Renders scenes/<scene>.lua with extra options into
-        renders/<scene>/<name>.png; returns (median wall s, render s, path, cmd)."""
+        renders/<scene>/<name>.png; returns (wall s, render s, path, cmd, timer:
+        another run's wall and render s)."""
         info = SCENES[scene]
         run_dir = os.path.join(self.tmp_dir, "lray")
         final = os.path.join(self.out, "renders", scene, name + ".png")
@@ -325,14 +324,13 @@ class Runner:
 
         wall, render_s, png = timed_run()
         shutil.move(png, final)  # the later passes only add timings (Runner.retime)
-        self.timer = lambda: timed_run()[:2]
-        return wall, render_s, final, cmd
+        return wall, render_s, final, cmd, lambda: timed_run()[:2]
 
     def lray_row(self, scene, backend, mode, setting, extra, ref):
         name = "lray-%s-%s-%s" % (backend, mode, setting)
-        wall, render_s, path, cmd = self.lray_render(scene, backend, name, extra)
+        wall, render_s, path, cmd, timer = self.lray_render(scene, backend, name, extra)
         e = rmse(read_rgb(path), ref) if ref is not None else 0.0
-        self.add_row(scene, "lray", backend, mode, setting, wall, e, render_s, path, cmd)
+        self.add_row(scene, "lray", backend, mode, setting, wall, e, render_s, path, cmd, timer)
         return render_s
 
     def lray_ladders(self, scene):
@@ -349,7 +347,8 @@ class Runner:
             self.note("%s has no --light-sampling: the reference and the 'fixed-all' ladder run "
                       "without it (every light cell, LRay's only mode then); 'fixed-spread' skipped"
                       % self.lray)
-        wall, ref_render, ref_path, cmd = self.lray_render(scene, "embree", "lray-reference", ref_extra)
+        wall, ref_render, ref_path, cmd, _ = self.lray_render(scene, "embree", "lray-reference",
+                                                              ref_extra)
         self.add_row(scene, "lray", "embree", "reference", "-s %d" % a.ref_samples, wall, 0.0,
                      ref_render, ref_path, cmd)
         ref = read_rgb(ref_path)
@@ -419,7 +418,8 @@ class Runner:
     def pov_render(self, scene, name, opts, scale=1):
         """Renders pov/<scene>.pov in pov/ (POV-Ray's I/O restrictions allow
         writing in its working folder) and moves the image to renders/; at
-        `scale` x the size as a 16-bit PPM, for pov_reference."""
+        `scale` x the size as a 16-bit PPM, for pov_reference. Returns as
+        lray_render does, with POV-Ray's trace time."""
         info = SCENES[scene]
         a = self.args
         base = "%s-%s" % (scene, name)
@@ -447,8 +447,7 @@ class Runner:
 
         wall, trace_s, image = timed_run()
         shutil.move(image, final)
-        self.timer = lambda: timed_run()[:2]
-        return wall, trace_s, final, cmd
+        return wall, trace_s, final, cmd, lambda: timed_run()[:2]
 
     def pov_reference(self, scene):
         """POV-Ray's reference: -A at --pov-ref-scale N times the size, each
@@ -460,7 +459,7 @@ class Runner:
         (jittered by default), +AM2's corners and quarter points. POV-Ray's
         own +A0.0 +AM1 reference would hold the centre ray -A traces."""
         scale = self.args.pov_ref_scale
-        wall, trace_s, ppm_path, cmd = self.pov_render(scene, "pov-reference", ["-A"], scale)
+        wall, trace_s, ppm_path, cmd, _ = self.pov_render(scene, "pov-reference", ["-A"], scale)
         ref_path = ppm_path[:-len(".ppm")] + ".png"
         mpimg.imsave(ref_path, box_downsample_srgb(read_ppm16(ppm_path), scale))
         os.remove(ppm_path)
@@ -474,23 +473,23 @@ class Runner:
         ref = read_rgb(ref_path)
         for mode, setting, opts in ladder["pov"]:
             name = "pov-%s-%s" % (mode, re.sub(r"[^A-Za-z0-9.]+", "", setting))
-            wall, trace_s, path, cmd = self.pov_render(scene, name, opts)
+            wall, trace_s, path, cmd, timer = self.pov_render(scene, name, opts)
             self.add_row(scene, "povray", "", mode, setting, wall, rmse(read_rgb(path), ref),
-                         trace_s, path, cmd)
+                         trace_s, path, cmd, timer)
         return ref_path
 
     # ---- results
 
-    def add_row(self, scene, renderer, backend, mode, setting, seconds, e, render_s, path, cmd):
+    def add_row(self, scene, renderer, backend, mode, setting, seconds, e, render_s, path, cmd,
+                timer=None):
+        """One row of results; `timer` (a run's), timed again in the later passes."""
         row = {"scene": scene, "renderer": renderer, "backend": backend, "mode": mode,
                "setting": setting, "seconds": seconds, "rmse": e, "psnr": psnr(e),
                "render_seconds": render_s, "image": os.path.relpath(path, self.out) if path else "",
                "command": shlex.join(cmd) if cmd else ""}
         self.rows.append(row)
-        # Every run but the references is timed again in each later pass.
-        if self.timer is not None and mode != "reference":
-            self.timings.append((row, self.timer, [seconds], [] if render_s is None else [render_s]))
-        self.timer = None
+        if timer is not None:
+            self.timings.append((row, timer, [seconds], [] if render_s is None else [render_s]))
         secs = "%8.3f s" % seconds if seconds is not None else " " * 10
         print("  %-10s %-11s %-7s %-12s %-16s %s  rmse %.5f  psnr %s"
               % (scene, renderer, backend, mode, setting, secs, e, fmt_psnr(row["psnr"])), flush=True)

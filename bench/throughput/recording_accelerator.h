@@ -37,10 +37,11 @@ public:
     kept.insert(kept.end(), rays, rays + count);
     inner_.intersectCoherent(rays, count, hits, found);
   }
-  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override {
+  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                        uint32_t *blockers) const override {
     auto &kept = rays_.local().shadowPackets;
     kept.insert(kept.end(), rays, rays + count);
-    inner_.occludedCoherent(rays, count, occluded);
+    inner_.occludedCoherent(rays, count, occluded, blockers);
   }
   AcceleratorStats stats() const override { return inner_.stats(); }
 

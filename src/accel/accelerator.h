@@ -43,7 +43,13 @@ public:
   virtual void intersectCoherent(const Ray *rays, size_t count, Hit *hits,
                                  uint8_t *found) const = 0;
   /// Coherent batch of occlusion queries: occluded[i] = 1 where blocked.
-  virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const = 0;
+  /// Where `blockers` is not null, blockers[i] names what was found to
+  /// block ray i when that was an analytic bounded entity (its index; the
+  /// integrator tests it first on the next ray of the same point, with
+  /// occludedAnalytic), or is kNoEntity (clear, or blocked by something
+  /// else: a triangle, an unbounded entity).
+  virtual void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                                uint32_t *blockers) const = 0;
 
   virtual AcceleratorStats stats() const = 0;
 };

@@ -55,6 +55,16 @@ inline bool occludedShape(const Entity &entity, const Ray &worldRay) {
   return occludedShape(entity, worldRay, worldRay.tMax);
 }
 
+/// Whether an analytic entity blocks `worldRay` within its bounds, by the
+/// test a backend calls for it (occludedStillSphere for a still sphere,
+/// occludedShape otherwise; the same answer either way): so a shadow ray
+/// tested against one entity alone is blocked there exactly when a backend
+/// would find that entity blocking it.
+inline bool occludedAnalytic(const Entity &entity, const Ray &worldRay) {
+  return isStillSphere(entity) ? occludedStillSphere(entity, worldRay, worldRay.tMax)
+                               : occludedShape(entity, worldRay);
+}
+
 /// The stretches of the whole line of `worldRay` inside a solid primitive
 /// (a CSG leaf; 0 for Mesh and CSG), in order: parameters of the entity's
 /// object ray re-origined by `shift` (world t = t + shift).

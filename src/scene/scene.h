@@ -138,6 +138,9 @@ struct Entity {
   bool isMesh() const { return std::holds_alternative<Mesh>(shape); }
 };
 
+/// No entity: an index past any scene's (Scene::entities).
+inline constexpr uint32_t kNoEntity = UINT32_MAX;
+
 /// The kinds of camera (lua/README.md, "Perspective", "Orthographic",
 /// "Spherical").
 enum class CameraKind { Perspective, Orthographic, Spherical };

@@ -180,7 +180,8 @@ private:
   /// shaft over the whole span was not clear (`whole`: its candidates):
   /// each kShaftLanes lanes get their own shaft, clear (no ray traced) or
   /// with a few analytic candidates (tested alone), and the rest go to the
-  /// accelerator together.
+  /// accelerator together, but for those that the entity last found
+  /// blocking their point's rays (lanes.occluder) blocks again.
   void markClearLanes(LightLanes &lanes, LaneSpan span, const ShadowShafts::Candidates &whole,
                       const LightScratch &scratch, RayCounts &counts) const;
 
@@ -203,6 +204,9 @@ private:
   MaterialTable materials_;
   uint32_t lightShares_;
   ShadowShafts shafts_;
+  /// The scene's entities: a lit point's last occluder is tested on them
+  /// (LightLanes::occluder).
+  const Entity *entities_;
   /// One light of one cell (a point or spot light): a lit point sends one
   /// shadow ray, and its origin is pushed off to that ray's side alone.
   bool oneShadowRay_ = false;

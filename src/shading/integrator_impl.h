@@ -4,6 +4,7 @@
 // per backend, in src/accel/, and the tests' brute-force accelerator).
 #pragma once
 
+#include "geometry/shape.h"
 #include "math/spawn.h"
 #include "shading/specular_lobes.h"
 #include "shading/integrator.h"
@@ -36,7 +37,8 @@ Integrator<Accel>::Integrator(const Scene &scene, const Accel &accel, const Imag
                               const IntegratorOptions &options)
     : accel_(accel), background_(scene.background),
       lights_(integrator_detail::prepareLights(scene)), materials_(scene, !lights_.empty()),
-      lightShares_(std::max<uint32_t>(1, options.lightShares)) {
+      lightShares_(std::max<uint32_t>(1, options.lightShares)),
+      entities_(scene.entities.data()) {
   if (options.shadowSkips && !lights_.empty()) shafts_ = ShadowShafts(scene);
   oneShadowRay_ = lights_.size() == 1 &&
                   std::visit([](const auto &source) { return source.sampleCount(); }, lights_[0]) == 1;
@@ -223,7 +225,7 @@ void Integrator<Accel>::testShadowRays(const ShadowShafts::Candidates &candidate
   if (candidates.direct) {
     for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, rays[k]);
   } else if (coherent) {
-    accel_.occludedCoherent(rays, n, blocked);
+    accel_.occludedCoherent(rays, n, blocked, nullptr);
   } else {
     for (size_t k = 0; k < n; ++k) blocked[k] = accel_.occluded(rays[k]);
   }
@@ -240,6 +242,8 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
     const Color &sum = sums[lanes.point[j]];
     lanes.sr[j] = sum.r, lanes.sg[j] = sum.g, lanes.sb[j] = sum.b;
   }
+  std::fill_n(lanes.occluder, lanes.count, kNoEntity);
+  lanes.anyOccluder = false;
   // The jitter drawn in lanes too, unless a point's sampler is stratified.
   const bool drawInLanes = loadSamplers(lanes, samplers);
   const LaneSpan span{0, lanes.count};
@@ -302,16 +306,42 @@ void Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
       continue;
     }
     counts.shadow += m;
-    if (!candidates.direct) {
+    if (candidates.direct) {
+      for (size_t k = n; k < n + m; ++k)
+        clear[lanes.rayLane[k]] = !shafts_.occluded(candidates, rays[k]);
+      continue;
+    }
+    if (!lanes.anyOccluder) {
       n += m; // kept
       continue;
     }
-    for (size_t k = n; k < n + m; ++k)
-      clear[lanes.rayLane[k]] = !shafts_.occluded(candidates, rays[k]);
+    // Kept for the accelerator (compacted in place: n <= k), but where the
+    // point's last occluder blocks this ray too: a neighbouring cell's ray
+    // from the same point, often blocked by the same sphere, is settled by
+    // one shape test instead of a walk. The accelerator would find that
+    // entity blocking the ray as well (occludedAnalytic), so the answer is
+    // its own.
+    const size_t end = n + m;
+    for (size_t k = n; k < end; ++k) {
+      const uint32_t lane = lanes.rayLane[k];
+      const uint32_t occluder = lanes.occluder[lane];
+      if (occluder != kNoEntity && occludedAnalytic(entities_[occluder], rays[k])) continue;
+      if (n != k) {
+        rays[n] = rays[k];
+        lanes.rayLane[n] = lane;
+      }
+      ++n;
+    }
   }
   if (n == 0) return;
-  accel_.occludedCoherent(rays, n, blocked);
-  for (size_t k = 0; k < n; ++k) clear[lanes.rayLane[k]] = !blocked[k];
+  accel_.occludedCoherent(rays, n, blocked, lanes.blocker);
+  for (size_t k = 0; k < n; ++k) {
+    const uint32_t lane = lanes.rayLane[k];
+    clear[lane] = !blocked[k];
+    if (!blocked[k]) continue;
+    lanes.occluder[lane] = lanes.blocker[k];
+    lanes.anyOccluder = lanes.anyOccluder || lanes.blocker[k] != kNoEntity;
+  }
 }
 
 template <class Accel>

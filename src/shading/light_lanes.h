@@ -73,6 +73,17 @@ struct LightLanes {
   /// loads and stores it around a light's rounds).
   alignas(32) double sr[kMax], sg[kMax], sb[kMax];
 
+  /// Per point, over one light's rounds (the integrator's to keep): the
+  /// analytic entity that blocked its last blocked shadow ray, or
+  /// kNoEntity. A neighbouring cell's ray is likely blocked by it too, so
+  /// it is tested first.
+  uint32_t occluder[kMax];
+  /// Whether some point's occluder is set (none is in a scene of meshes).
+  bool anyOccluder = false;
+  /// Scratch for the caller: what blocked each ray of a round
+  /// (Accelerator::occludedCoherent's blockers).
+  uint32_t blocker[kMax];
+
   /// No points yet.
   void clear() {
     count = 0;

@@ -147,10 +147,7 @@ ShadowShafts::Candidates ShadowShafts::candidates(const Bounds3 &origins,
 
 bool ShadowShafts::occluded(const Candidates &c, const Ray &ray) const {
   for (size_t i = 0; i < c.count; ++i) {
-    const Entity &entity = (*entities_)[c.entity[i]];
-    if (isStillSphere(entity) ? occludedStillSphere(entity, ray, ray.tMax)
-                              : occludedShape(entity, ray))
-      return true;
+    if (occludedAnalytic((*entities_)[c.entity[i]], ray)) return true;
   }
   return false;
 }

@@ -6,6 +6,7 @@
 #include "shape_params.h"
 
 #include "accel_test_scenes.h"
+#include "geometry/shape.h"
 #include "math/spawn.h"
 
 #include <gtest/gtest.h>
@@ -167,8 +168,8 @@ TEST(BackendPair, PlanesAndToriGiveBitIdenticalHitsAndBatches) {
     for (Ray &r : rays) r = {{u(rng), u(rng), -3}, {0.6 * u(rng), 0.6 * u(rng), 1}};
     embree->intersectCoherent(rays.data(), kBatch, ha.data(), fa.data());
     kdtree->intersectCoherent(rays.data(), kBatch, hb.data(), fb.data());
-    embree->occludedCoherent(rays.data(), kBatch, oa.data());
-    kdtree->occludedCoherent(rays.data(), kBatch, ob.data());
+    embree->occludedCoherent(rays.data(), kBatch, oa.data(), nullptr);
+    kdtree->occludedCoherent(rays.data(), kBatch, ob.data(), nullptr);
     for (size_t i = 0; i < kBatch; ++i) {
       Hit single;
       ASSERT_EQ(fa[i], fb[i]) << batch << " " << i;
@@ -190,6 +191,81 @@ TEST(BackendPair, PlanesAndToriGiveBitIdenticalHitsAndBatches) {
   }
   EXPECT_GT(planeHits, 500);
   EXPECT_GT(torusHits, 50);
+}
+
+// occludedCoherent names what blocked a ray where that is an analytic
+// entity, for the integrator to test first on the same point's next shadow
+// ray (shading/integrator_impl.h, markClearLanes). A named entity blocks
+// the ray by the test a backend calls for it (occludedAnalytic); a clear
+// ray names none; a ray that only analytic entities block names one; a ray
+// that only meshes and planes block names none. Both kd-tree paths: single
+// rays (the small scene) and packets (with 3,600 more spheres).
+TEST_P(BackendParity, OccludedCoherentNamesAnalyticBlockers) {
+  for (const bool many : {false, true}) {
+    SCOPED_TRACE(many ? "3,600 more spheres" : "the parity scene and planes");
+    Scene s = parityScenePlusPlanes();
+    for (int i = 0; i < 60 && many; ++i)
+      for (int j = 0; j < 60; ++j)
+        s.entities.push_back(shapeEntity(
+            ShapeKind::Sphere, Transform::translate({0.15 * i - 4.5, 0.15 * j - 4.5, 5}) *
+                                   Transform::scale(0.06, 0.06, 0.06)));
+    auto accel = makeAccelerator(GetParam(), s);
+    if (many && GetParam() == BackendKind::KdTree) {
+      ASSERT_TRUE(KdTreeAccelerator(s).usesPackets());
+    }
+    // What the meshes and planes alone block.
+    Scene others;
+    for (const Entity &e : s.entities)
+      if (e.isMesh() || e.kind() == ShapeKind::Plane) others.entities.push_back(e);
+    others.textures.push_back({});
+    auto othersAccel = makeAccelerator(GetParam(), others);
+    std::mt19937_64 rng(many ? 31 : 30);
+    std::uniform_real_distribution<double> u(-1, 1);
+    constexpr size_t kBatch = 37; // packets and a partial one
+    std::vector<Ray> rays(kBatch);
+    std::vector<uint8_t> occluded(kBatch);
+    std::vector<uint32_t> blockers(kBatch);
+    int named = 0, analyticOnly = 0, othersOnly = 0, clear = 0;
+    for (int batch = 0; batch < 60; ++batch) {
+      // Shadow rays (tMax 1) from points in the scene towards a light
+      // above it, neighbours close together as a tile's are.
+      const Vec3 light{6 * u(rng), 9, 6 * u(rng)};
+      const Vec3 corner{4 * u(rng), 4 * u(rng), 8 + 4 * u(rng)};
+      for (Ray &r : rays) {
+        const Vec3 o = corner + Vec3{0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)};
+        r = Ray{o, light - o};
+        r.tMin = 1e-9;
+        r.tMax = 1;
+      }
+      accel->occludedCoherent(rays.data(), kBatch, occluded.data(), blockers.data());
+      for (size_t i = 0; i < kBatch; ++i) {
+        const Ray &ray = rays[i];
+        ASSERT_EQ(occluded[i] != 0, accel->occluded(ray)) << batch << " " << i;
+        bool analytic = false;
+        for (const Entity &e : s.entities)
+          analytic = analytic || (!e.isMesh() && e.kind() != ShapeKind::Plane &&
+                                  occludedAnalytic(e, ray));
+        const bool byOthers = othersAccel->occluded(ray);
+        ASSERT_EQ(occluded[i] != 0, analytic || byOthers) << batch << " " << i;
+        if (blockers[i] != kNoEntity) {
+          ASSERT_LT(blockers[i], s.entities.size());
+          const Entity &e = s.entities[blockers[i]];
+          ASSERT_FALSE(e.isMesh());
+          ASSERT_TRUE(occludedAnalytic(e, ray)) << batch << " " << i;
+          ++named;
+        } else {
+          ASSERT_FALSE(analytic && !byOthers) << batch << " " << i;
+        }
+        analyticOnly += analytic && !byOthers;
+        othersOnly += byOthers && !analytic;
+        clear += !occluded[i];
+      }
+    }
+    EXPECT_GT(analyticOnly, 100);
+    EXPECT_GE(named, analyticOnly);
+    EXPECT_GT(othersOnly, 20);
+    EXPECT_GT(clear, 100);
+  }
 }
 
 std::string backendCaseName(const ::testing::TestParamInfo<BackendKind> &param) {

@@ -48,7 +48,7 @@ TEST(EmbreeAccelerator, EmptySceneHasNoHits) {
   Hit hits[3];
   uint8_t found[3] = {7, 7, 7}, occl[3] = {7, 7, 7};
   accel.intersectCoherent(rays, 3, hits, found);
-  accel.occludedCoherent(rays, 3, occl);
+  accel.occludedCoherent(rays, 3, occl, nullptr);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(found[i], 0);
     EXPECT_EQ(occl[i], 0);
@@ -99,7 +99,7 @@ TEST(EmbreeAccelerator, MatchesBruteForceOnMixedScene) {
   std::vector<Hit> hits(n);
   std::vector<uint8_t> found(n), occl(n);
   accel.intersectCoherent(rays.data(), n, hits.data(), found.data());
-  accel.occludedCoherent(rays.data(), n, occl.data());
+  accel.occludedCoherent(rays.data(), n, occl.data(), nullptr);
   int hitCount = 0, meshHits = 0;
   for (int i = 0; i < n; ++i) {
     auto [entity, t] = bruteForce(s, rays[i]);

@@ -7,6 +7,7 @@
 #include "shading/fresnel.h"
 
 #include "shading/brute_force_accelerator.h"
+#include "shading/counting_accelerator.h"
 #include "shading/quad_mesh.h"
 
 #include <OpenImageIO/imageio.h>
@@ -21,6 +22,7 @@ namespace lray {
 namespace {
 
 using testing::BruteForceAccelerator;
+using testing::CountingAccelerator;
 using Integ = Integrator<BruteForceAccelerator>;
 
 const Color kRed{1, 0, 0};
@@ -246,6 +248,65 @@ TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
   EXPECT_EQ(a, t);
   EXPECT_EQ(c1.shadow, c2.shadow);
   EXPECT_EQ(c1.reflection, 1u);
+}
+
+// A tile's area-light rounds test each point's last occluder first
+// (markClearLanes): a floor under three rows of balls, an area light of 4 x 4
+// cells. The colours, counts and draws are the same as with no occluder
+// named, and fewer shadow rays go to the accelerator.
+TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  b.quad(Transform::scale(6, 1, 6) * Transform::translate({0, -1, 0}),
+         b.texture(Finish{}, {0.8, 0.7, 0.6}));
+  for (int i = 0; i < 24; ++i)
+    b.add(ShapeKind::Sphere,
+          Transform::translate({0.5 * (i % 8) - 1.75, -0.7, 0.6 * (i / 8) - 0.3}) *
+              Transform::scale(0.25, 0.25, 0.25),
+          b.texture(Finish{}, kRed));
+  b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, 4, 4,
+          true);
+  constexpr size_t kSide = 16, kCount = kSide * kSide;
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < kCount; ++i) {
+    const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
+    const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
+    rays.push_back(rayFrom({0, 1.5, -6}, {x * 0.5, y * 0.3 - 0.3, 1}));
+  }
+  std::vector<Color> tiles[2];
+  std::vector<uint64_t> nextDraws[2];
+  RayCounts counts[2];
+  size_t traced[2], blocked[2];
+  for (const bool named : {false, true}) {
+    CountingAccelerator accel(b.scene, named);
+    ImageCache images(false);
+    // No shafts (as in a scene of more than ShadowShafts::kMaxEntities):
+    // every ray not settled by its occluder goes to the accelerator.
+    IntegratorOptions options;
+    options.shadowSkips = false;
+    Integrator<CountingAccelerator> integrator(b.scene, accel, images, options);
+    std::vector<Hit> hits(kCount);
+    std::vector<uint8_t> found(kCount);
+    accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
+    std::vector<Sampler> samplers;
+    for (size_t i = 0; i < kCount; ++i) samplers.emplace_back(5, i, 0);
+    tiles[named].resize(kCount);
+    integrator.shadeTile(rays.data(), hits.data(), found.data(), samplers.data(), kCount,
+                         tiles[named].data(), counts[named]);
+    for (Sampler &sampler : samplers) nextDraws[named].push_back(sampler.next());
+    traced[named] = accel.coherentShadowRays;
+    blocked[named] = accel.blockedRays;
+  }
+  for (size_t i = 0; i < kCount; ++i) EXPECT_EQ(tiles[true][i], tiles[false][i]) << "ray " << i;
+  EXPECT_EQ(nextDraws[true], nextDraws[false]);
+  EXPECT_EQ(counts[true].shadow, counts[false].shadow);
+  EXPECT_EQ(counts[true].shadowSkipped, counts[false].shadowSkipped);
+  // Only blocked rays were settled by their occluder, and most of them
+  // were: a point's first blocked ray names the ball, its neighbouring
+  // cells' rays are blocked by it too.
+  EXPECT_EQ(traced[false] - traced[true], blocked[false] - blocked[true]);
+  EXPECT_GT(blocked[false], 100u);
+  EXPECT_LT(blocked[true] * 4, blocked[false]);
 }
 
 // shadeTile batches the camera hits' shadow rays light sample by light

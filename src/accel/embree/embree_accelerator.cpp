@@ -52,6 +52,7 @@ struct QueryContext {
   const Ray *rays = nullptr;
   Hit *hits = nullptr;       ///< intersect only: where an accepted analytic hit goes
   double *bestT = nullptr;   ///< intersect only: t of the closest analytic hit so far
+  uint32_t *blockers = nullptr; ///< occludedCoherent only: the analytic entity blocking a ray
 };
 
 /// Whether a triangle of `mesh` has no area (its corners' cross product,
@@ -245,7 +246,7 @@ struct EmbreeCallbacks {
     const EmbreeAccelerator::ShapeRef &ref = self->movingRefs_[args->primID];
     const MovingBoxes *boxes = boxTestFor(*self, ref);
     if (!ref.entity->isMesh()) return occludedShapeLanes(args, ref, boxes);
-    occludedLanes(args, [&ref, boxes](const Ray &r, float tfar) {
+    occludedLanes(args, kNoEntity, [&ref, boxes](const Ray &r, float tfar) {
       if (boxes && boxes->misses(ref.index, r, tfar)) return false;
       RTCRay o;
       toRay1(objectSpaceRay(*ref.entity, r), Vec3(), o);
@@ -267,7 +268,7 @@ struct EmbreeCallbacks {
                                  const EmbreeAccelerator::ShapeRef &shape,
                                  const MovingBoxes *moving) {
     if (shape.stillSphere) return occludedSphereLanes(args, shape);
-    occludedLanes(args, [&shape, moving](const Ray &ray, float tfar) {
+    occludedLanes(args, shape.index, [&shape, moving](const Ray &ray, float tfar) {
       const double tMax = std::min(ray.tMax, static_cast<double>(tfar));
       if (moving && moving->misses(shape.index, ray, tMax)) return false;
       return occludedShape(*shape.entity, ray, tMax);
@@ -297,23 +298,30 @@ struct EmbreeCallbacks {
         float &tfar = RTCRayN_tfar(args->ray, n, base + k);
         if (n < 4 && shape.sphereBound.missesLine(*rays[k])) continue;
         if (occludedStillSphere(*shape.entity, *rays[k],
-                                std::min(rays[k]->tMax, static_cast<double>(tfar))))
+                                std::min(rays[k]->tMax, static_cast<double>(tfar)))) {
           tfar = -kInfinityF;
+          if (ctx->blockers) ctx->blockers[rays[k] - ctx->rays] = shape.index;
+        }
       }
     }
   }
 
   /// Marks each valid lane not yet occluded whose ray (the caller's double
-  /// ray, and Embree's tfar) `blocks` says is blocked.
+  /// ray, and Embree's tfar) `blocks` says is blocked, naming `blocker`
+  /// (an analytic entity, or kNoEntity) as what blocked it.
   template <class Blocks>
-  static void occludedLanes(const RTCOccludedFunctionNArguments *args, Blocks blocks) {
+  static void occludedLanes(const RTCOccludedFunctionNArguments *args, uint32_t blocker,
+                            Blocks blocks) {
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     for (unsigned i = 0; i < n; ++i) {
       if (!args->valid[i]) continue;
       float &tfar = RTCRayN_tfar(args->ray, n, i);
       if (tfar < 0) continue; // already occluded
-      if (blocks(ctx->rays[RTCRayN_id(args->ray, n, i)], tfar)) tfar = -kInfinityF;
+      const unsigned id = RTCRayN_id(args->ray, n, i);
+      if (!blocks(ctx->rays[id], tfar)) continue;
+      tfar = -kInfinityF;
+      if (ctx->blockers) ctx->blockers[id] = blocker;
     }
   }
 };
@@ -696,7 +704,9 @@ double EmbreeAccelerator::rawSeconds(const Ray *rays, size_t count, RawQuery que
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
+void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                                         uint32_t *blockers) const {
+  if (blockers) std::fill_n(blockers, count, kNoEntity);
   for (size_t base = 0; base < count; base += 8) {
     size_t lanes = std::min<size_t>(8, count - base);
     alignas(32) int valid[8];
@@ -712,6 +722,7 @@ void EmbreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
     // part where they pass a mesh's edges, unlike a camera's.
     ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     ctx.rays = rays + base;
+    ctx.blockers = blockers ? blockers + base : nullptr;
     rtcOccluded8(valid, root_, &ctx.base, &r8);
     for (unsigned i = 0; i < lanes; ++i) occluded[base + i] = r8.tfar[i] < 0 ? 1 : 0;
   }

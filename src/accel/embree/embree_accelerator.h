@@ -40,7 +40,8 @@ public:
   bool occluded(const Ray &ray) const override;
   /// 8-wide packets flagged coherent (camera rays of a tile).
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
-  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
+  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                        uint32_t *blockers) const override;
   AcceleratorStats stats() const override { return stats_; }
 
   /// For bench/throughput: how long Embree alone takes for these queries

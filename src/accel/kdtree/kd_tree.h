@@ -572,11 +572,18 @@ uint32_t KdTree::walkPacket(const PacketSetup &p, const uint32_t *dirNegative, u
   int top = 0;
   uint32_t nodeIndex = 0, cellLanes = lanes, hits = 0, done = 0;
   for (;;) {
-    // A lane whose hit (or segment end) lies before this cell's entry is
-    // done with it, as walkGeneral stops there.
-    Lanes limit;
-    packet_lanes::load(tMax, limit);
-    uint32_t in = packet_lanes::bits(t0 <= limit) & cellLanes & ~done;
+    // A lane whose hit lies before this cell's entry is done with it, as
+    // walkGeneral stops there. Any-hit lanes are done at their first hit,
+    // and a cell's entry never lies past their segment's end (t0 <= t1 <=
+    // tExit <= tMax holds for each lane of a cell: the near child's t1 is
+    // at least t0 where it is needed, the far child's t0 at most t1), so
+    // they skip the test.
+    uint32_t in = cellLanes & ~done;
+    if (!AnyHit) {
+      Lanes limit;
+      packet_lanes::load(tMax, limit);
+      in &= packet_lanes::bits(t0 <= limit);
+    }
     if (in != 0) {
       const KdNode node = nodes_[nodeIndex];
       if (!node.isLeaf()) {

@@ -417,14 +417,19 @@ template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit 
 }
 
 template <KdRays Rays>
-[[gnu::always_inline]] inline bool KdTreeAccelerator::occludedBounded(const Ray &ray) const {
+[[gnu::always_inline]] inline bool KdTreeAccelerator::occludedBounded(const Ray &ray,
+                                                                  uint32_t *blocker) const {
   auto testInstance = [&](uint32_t prim, double &) {
     const Instance &inst = instances_[prim];
     if (moving_.misses(inst.entity, ray, ray.tMax)) return false;
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
-      if (inst.transform == kIdentity) return occludedShape(entity, ray);
-      return !passesStillSphere(inst, ray) && occludedStillSphere(entity, ray, ray.tMax);
+      const bool blocks =
+          inst.transform == kIdentity
+              ? occludedShape(entity, ray)
+              : !passesStillSphere(inst, ray) && occludedStillSphere(entity, ray, ray.tMax);
+      if (blocks && blocker) *blocker = inst.entity;
+      return blocks;
     }
     double tObject = ray.tMax;
     MeshHit unused;
@@ -455,12 +460,23 @@ bool KdTreeAccelerator::occluded(const Ray &ray) const {
 
 template <bool AnyHit>
 uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double *tMax,
-                                        PacketFinds *finds) const {
+                                        PacketFinds *finds, uint32_t *blockers) const {
   // Each lane meets the entities in the order its own walk does and keeps
   // its nearest find as intersectRay does. The lanes share one mailbox: it
   // skips fewer or other repeats than a lane's own would, and a repeat
   // finds nothing nearer (Mailbox), so the finds are the same.
   PacketMailbox mailbox;
+  // Shadow rays: the packet's rays in lanes once, for the still spheres'
+  // bounds (SphereBound::missesLines), which settle most of the lanes a
+  // leaf's sphere meets four at a time. (Lanes outside `lanes` read the
+  // first lane's ray.)
+  lanes::RayLanes rayLanes;
+  if (AnyHit) {
+    const int firstLane = std::countr_zero(lanes);
+    const Ray *laneRays[kRays];
+    for (int i = 0; i < kRays; ++i) laneRays[i] = &rays[(lanes >> i & 1u) ? i : firstLane];
+    lanes::loadRays(laneRays, rayLanes);
+  }
   auto testInstance = [&](uint32_t prim, uint32_t in, double *tBest) {
     const Instance &inst = instances_[prim];
     uint32_t found = 0;
@@ -472,13 +488,15 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
     if (inst.meshTree == kAnalytic) {
       const Entity &entity = scene_.entities[inst.entity];
       const bool stillSphere = inst.transform != kIdentity;
+      if (AnyHit && stillSphere) in &= ~sphereBounds_[inst.transform].missesLines(rayLanes);
       for (; in != 0; in &= in - 1) {
         const int i = std::countr_zero(in);
-        if (passesStillSphere(inst, rays[i])) continue;
+        if (!AnyHit && passesStillSphere(inst, rays[i])) continue;
         if (AnyHit) {
           if (!(stillSphere ? occludedStillSphere(entity, rays[i], tBest[i])
                             : occludedShape(entity, rays[i], tBest[i])))
             continue;
+          if (blockers) blockers[i] = inst.entity;
         } else {
           Hit candidate;
           if (!intersectShape(entity, inst.entity, rays[i], tBest[i], candidate) ||
@@ -596,17 +614,22 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
     for (size_t i = 0; i < count; ++i) found[i] = unbounded_.intersect(rays[i], hits[i], found[i]);
 }
 
-void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const {
+void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                                         uint32_t *blockers) const {
+  if (blockers) std::fill_n(blockers, count, kNoEntity);
   if (!usePackets_) {
+    // Unbounded entities first, as occludedRay tests them.
     for (size_t i = 0; i < count; ++i)
-      occluded[i] = occludedRay<KdRays::Incoherent>(rays[i]) ? 1 : 0;
+      occluded[i] = (!unbounded_.empty() && unbounded_.occluded(rays[i])) ||
+                    occludedBounded<KdRays::Incoherent>(rays[i], blockers ? blockers + i : nullptr);
     return;
   }
   for (size_t first = 0; first < count; first += kRays) {
     const int n = static_cast<int>(std::min<size_t>(kRays, count - first));
     double tMax[kRays] = {};
     for (int i = 0; i < n; ++i) tMax[i] = rays[first + i].tMax;
-    const uint32_t blocked = packetQuery<true>(rays + first, (1u << n) - 1, tMax, nullptr);
+    const uint32_t blocked = packetQuery<true>(rays + first, (1u << n) - 1, tMax, nullptr,
+                                               blockers ? blockers + first : nullptr);
     for (int i = 0; i < n; ++i) occluded[first + i] = static_cast<uint8_t>(blocked >> i & 1u);
   }
   if (!unbounded_.empty())

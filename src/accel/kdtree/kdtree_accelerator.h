@@ -37,7 +37,8 @@ public:
   /// the general loop, whose branches predict well on neighbouring rays
   /// (KdRays::Coherent), shadow rays as intersect() and occluded() take them.
   void intersectCoherent(const Ray *rays, size_t count, Hit *hits, uint8_t *found) const override;
-  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded) const override;
+  void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
+                        uint32_t *blockers) const override;
   /// primitives: analytic shapes + triangles of the distinct meshes;
   /// instances: mesh entities (each an instance of a bottom-level tree).
   AcceleratorStats stats() const override { return stats_; }
@@ -141,9 +142,12 @@ private:
   uint32_t intersectMeshPacket(const Instance &inst, const Ray *rays, uint32_t lanes,
                                double *tBest, MeshHit *hits) const;
   /// A packet through both levels: the lanes that hit; for closest hits,
-  /// each lane's nearest find in `finds`, with tMax lowered to its t.
+  /// each lane's nearest find in `finds`, with tMax lowered to its t; for
+  /// any hit, where `blockers` is given, the analytic entity that blocked
+  /// lane i in blockers[i] (left as it was where none did).
   template <bool AnyHit>
-  uint32_t packetQuery(const Ray *rays, uint32_t lanes, double *tMax, PacketFinds *finds) const;
+  uint32_t packetQuery(const Ray *rays, uint32_t lanes, double *tMax, PacketFinds *finds,
+                       uint32_t *blockers = nullptr) const;
   /// intersect() and occluded() by either walk of the trees.
   template <KdRays Rays> bool intersectRay(const Ray &ray, Hit &hit) const;
   template <KdRays Rays> bool occludedRay(const Ray &ray) const;
@@ -159,7 +163,9 @@ private:
   /// FlatInstances::kMaxInstances of the scene's boxes (fanBoxes_) pass it;
   /// false otherwise (the flat-list scenes at once: no fanBoxes_).
   bool fanList(const Ray *rays, size_t n, FlatInstances &list) const;
-  template <KdRays Rays> bool occludedBounded(const Ray &ray) const;
+  /// occluded() without the unbounded entities; where `blocker` is given,
+  /// the analytic entity found blocking the ray goes there.
+  template <KdRays Rays> bool occludedBounded(const Ray &ray, uint32_t *blocker = nullptr) const;
 
   const Scene &scene_;
   /// The float frame of fillTriangleHit's error bound (same as Embree's, so

@@ -48,9 +48,13 @@ public:
   /// missesLine of *rays[0..3] at once, lane by lane the same operations
   /// (math/lanes.h): bit k set where the line of *rays[k] is settled.
   [[gnu::always_inline]] uint32_t missesLines(const Ray *const (&rays)[4]) const {
-    using lanes::Lanes;
     lanes::RayLanes r;
     lanes::loadRays(rays, r);
+    return missesLines(r);
+  }
+  /// The same for four rays already in lanes (lanes::loadRays).
+  [[gnu::always_inline]] uint32_t missesLines(const lanes::RayLanes &r) const {
+    using lanes::Lanes;
     Lanes farSq, radiusSq;
     lanes::splat(farSq_, farSq);
     lanes::splat(radiusSq_, radiusSq);

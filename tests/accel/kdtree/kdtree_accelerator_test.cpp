@@ -132,7 +132,7 @@ TEST(KdTreeAccelerator, MatchesBruteForceOnMixedScene) {
   std::vector<Hit> batch(rays.size());
   std::vector<uint8_t> found(rays.size()), blocked(rays.size());
   accel.intersectCoherent(rays.data(), rays.size(), batch.data(), found.data());
-  accel.occludedCoherent(rays.data(), rays.size(), blocked.data());
+  accel.occludedCoherent(rays.data(), rays.size(), blocked.data(), nullptr);
   for (size_t i = 0; i < rays.size(); ++i) {
     Hit single;
     bool f = accel.intersect(rays[i], single);
@@ -320,7 +320,7 @@ TEST(KdTreeAccelerator, PacketsMatchSingleRaysBitForBit) {
   std::vector<uint8_t> blocked(shadowRays.size(), 9);
   for (size_t first = 0; first < shadowRays.size(); first += 253) {
     const size_t count = std::min<size_t>(253, shadowRays.size() - first);
-    accel.occludedCoherent(shadowRays.data() + first, count, blocked.data() + first);
+    accel.occludedCoherent(shadowRays.data() + first, count, blocked.data() + first, nullptr);
   }
   int shadowed = 0;
   for (size_t i = 0; i < shadowRays.size(); ++i) {

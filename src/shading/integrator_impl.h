@@ -319,8 +319,8 @@ void Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
     // point's last occluder blocks this ray too: a neighbouring cell's ray
     // from the same point, often blocked by the same sphere, is settled by
     // one shape test instead of a walk. The accelerator would find that
-    // entity blocking the ray as well (occludedAnalytic), so the answer is
-    // its own.
+    // entity blocking the ray as well (occludedAnalytic, with the ray's
+    // tMax of 1, exact in Embree's float too), so the answer is its own.
     const size_t end = n + m;
     for (size_t k = n; k < end; ++k) {
       const uint32_t lane = lanes.rayLane[k];

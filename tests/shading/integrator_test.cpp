@@ -114,6 +114,19 @@ protected:
 
 Ray rayFrom(const Vec3 &o, const Vec3 &d) { return {o, d}; }
 
+/// A tile's camera rays: kTileSide x kTileSide directions from `eye`, x
+/// across [-width, width], y across [-height, height] shifted by `tilt`.
+constexpr size_t kTileSide = 16, kTileRays = kTileSide * kTileSide;
+std::vector<Ray> tileRays(const Vec3 &eye, double width, double height, double tilt) {
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < kTileRays; ++i) {
+    const double x = (static_cast<double>(i % kTileSide) + 0.5) / kTileSide * 2 - 1;
+    const double y = (static_cast<double>(i / kTileSide) + 0.5) / kTileSide * 2 - 1;
+    rays.push_back(rayFrom(eye, {x * width, y * height + tilt, 1}));
+  }
+  return rays;
+}
+
 TEST_P(IntegratorTest, LitSphereHeadOn) {
   SceneBuilder b;
   b.add(ShapeKind::Sphere, Transform(), b.texture(Finish{}));
@@ -266,13 +279,8 @@ TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
           b.texture(Finish{}, kRed));
   b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, 4, 4,
           true);
-  constexpr size_t kSide = 16, kCount = kSide * kSide;
-  std::vector<Ray> rays;
-  for (size_t i = 0; i < kCount; ++i) {
-    const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
-    const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
-    rays.push_back(rayFrom({0, 1.5, -6}, {x * 0.5, y * 0.3 - 0.3, 1}));
-  }
+  constexpr size_t kCount = kTileRays;
+  const std::vector<Ray> rays = tileRays({0, 1.5, -6}, 0.5, 0.3, -0.3);
   std::vector<Color> tiles[2];
   std::vector<uint64_t> nextDraws[2];
   RayCounts counts[2];
@@ -347,13 +355,8 @@ TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
     ImageCache images(false);
     Integ integrator(b.scene, accel, images, options);
 
-    constexpr size_t kSide = 16, kCount = kSide * kSide;
-    std::vector<Ray> rays;
-    for (size_t i = 0; i < kCount; ++i) {
-      const double x = (static_cast<double>(i % kSide) + 0.5) / kSide * 2 - 1;
-      const double y = (static_cast<double>(i / kSide) + 0.5) / kSide * 2 - 1;
-      rays.push_back(rayFrom({0, 1.5, -7}, {x * 0.4, y * 0.3 - 0.15, 1}));
-    }
+    constexpr size_t kCount = kTileRays;
+    const std::vector<Ray> rays = tileRays({0, 1.5, -7}, 0.4, 0.3, -0.15);
     std::vector<Hit> hits(kCount);
     std::vector<uint8_t> found(kCount);
     accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());

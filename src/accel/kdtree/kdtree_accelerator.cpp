@@ -445,9 +445,10 @@ template <KdRays Rays>
                });
 }
 
-template <KdRays Rays> bool KdTreeAccelerator::occludedRay(const Ray &ray) const {
+template <KdRays Rays>
+bool KdTreeAccelerator::occludedRay(const Ray &ray, uint32_t *blocker) const {
   if (!unbounded_.empty() && unbounded_.occluded(ray)) return true;
-  return occludedBounded<Rays>(ray);
+  return occludedBounded<Rays>(ray, blocker);
 }
 
 bool KdTreeAccelerator::intersect(const Ray &ray, Hit &hit) const {
@@ -618,10 +619,9 @@ void KdTreeAccelerator::occludedCoherent(const Ray *rays, size_t count, uint8_t 
                                          uint32_t *blockers) const {
   if (blockers) std::fill_n(blockers, count, kNoEntity);
   if (!usePackets_) {
-    // Unbounded entities first, as occludedRay tests them.
     for (size_t i = 0; i < count; ++i)
-      occluded[i] = (!unbounded_.empty() && unbounded_.occluded(rays[i])) ||
-                    occludedBounded<KdRays::Incoherent>(rays[i], blockers ? blockers + i : nullptr);
+      occluded[i] =
+          occludedRay<KdRays::Incoherent>(rays[i], blockers ? blockers + i : nullptr) ? 1 : 0;
     return;
   }
   for (size_t first = 0; first < count; first += kRays) {

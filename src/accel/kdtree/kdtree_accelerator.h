@@ -148,9 +148,11 @@ private:
   template <bool AnyHit>
   uint32_t packetQuery(const Ray *rays, uint32_t lanes, double *tMax, PacketFinds *finds,
                        uint32_t *blockers = nullptr) const;
-  /// intersect() and occluded() by either walk of the trees.
+  /// intersect() and occluded() by either walk of the trees; occludedRay
+  /// names the analytic entity it found blocking the ray in `blocker`
+  /// where given (occludedBounded).
   template <KdRays Rays> bool intersectRay(const Ray &ray, Hit &hit) const;
-  template <KdRays Rays> bool occludedRay(const Ray &ray) const;
+  template <KdRays Rays> bool occludedRay(const Ray &ray, uint32_t *blocker = nullptr) const;
   /// Their walks over the bounded entities (the trees; no planes): the
   /// nearest find is an analytic shape's Hit in `hit`, or a triangle in
   /// `best` (then bestIsTriangle), its t in tMax; its Hit is not filled.

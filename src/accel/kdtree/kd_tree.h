@@ -112,8 +112,9 @@ public:
   /// with t in (rays[i].tMin, tMax[i]), lowers tMax[i] on a hit and returns
   /// the lanes that hit. The lanes share each node's load and step when
   /// their rays move the same way along every axis (rays to or from nearby
-  /// points); otherwise each lane walks on its own. Returns the lanes that
-  /// hit (any hit: a lane stops at its first).
+  /// points); otherwise each group of lanes that do walks together, a lane
+  /// unlike the others on its own. Returns the lanes that hit (any hit: a
+  /// lane stops at its first).
   template <bool AnyHit, class LeafTest>
   uint32_t traversePacket(const Ray *rays, uint32_t lanes, double *tMax,
                           LeafTest &&testLeaf) const;
@@ -496,7 +497,7 @@ inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *
   // clipToBounds' own test (their lanes of p are void).
   const Mask parallel = (p.dir[0] == Lanes{}) | (p.dir[1] == Lanes{}) | (p.dir[2] == Lanes{});
   RaySetup r[kPacketRays];
-  uint32_t live = 0;
+  uint32_t live = 0, hits = 0;
   if ((packet_lanes::bits(parallel) & lanes) != 0) {
     for (int i = 0; i < kPacketRays; ++i)
       if ((lanes >> i & 1u) && clipToBounds(rays[i], tMax[i], r[i])) live |= 1u << i;
@@ -522,6 +523,25 @@ inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *
     }
     together = together && (packet_lanes::bits(ordinary) & live) == live;
     if (together) return walkPacket<AnyHit>(p, dirNegative, live, tMax, testLeaf);
+    // Else the lanes that move the same way as one another walk together,
+    // a packet walk for each such group of two or more (rays from one
+    // point to a light's cells may part on an axis), the others alone.
+    uint32_t alone = live & ~packet_lanes::bits(ordinary);
+    for (uint32_t rest = live & ~alone; rest != 0;) {
+      const uint32_t first = rest & -rest;
+      uint32_t group = rest;
+      for (int a = 0; a < 3; ++a) {
+        const uint32_t negative = packet_lanes::bits(p.dir[a] < Lanes{});
+        dirNegative[a] = (negative & first) != 0 ? 1 : 0;
+        group &= dirNegative[a] ? negative : ~negative;
+      }
+      rest &= ~group;
+      if (std::popcount(group) > 1)
+        hits |= walkPacket<AnyHit>(p, dirNegative, group, tMax, testLeaf);
+      else
+        alone |= group;
+    }
+    live = alone;
     for (int i = 0; i < kPacketRays; ++i) {
       if (!(live >> i & 1u)) continue;
       for (int a = 0; a < 3; ++a) {
@@ -534,7 +554,6 @@ inline uint32_t KdTree::traversePacket(const Ray *rays, uint32_t lanes, double *
       r[i].tExit = p.tExit[i];
     }
   }
-  uint32_t hits = 0;
   for (int i = 0; i < kPacketRays; ++i) {
     if (!(live >> i & 1u)) continue;
     // walkGeneral hands the leaf test tMax[i] itself (by reference), so the

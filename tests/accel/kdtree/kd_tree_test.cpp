@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -323,8 +324,9 @@ bool testSoupLeaf(const KdTree &tree, const TriangleSoup &soup, const Ray &ray, 
 // general loop, in the same order and with the same tMax, and find the same
 // triangle: packets whose rays share every direction sign (walked
 // together), from points on split planes, beside them, on the root box's
-// faces and at tMin > 0, with lanes left out; and packets of mixed signs or
-// with direction components of 0 (each lane on its own).
+// faces and at tMin > 0, with lanes left out; and packets of mixed signs
+// (lanes that move the same way walk together) or with direction
+// components of 0 (each lane on its own).
 template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
   TriangleSoup soup = randomSoup(3000, 21, 1.0);
   for (Vec3 &c : soup.corners) c = TriangleSoup::roundToFloat(c + Vec3(far, -far, far));
@@ -371,6 +373,21 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
     }
     packets.push_back(packet);
   }
+  // Rays from one point that part on one axis (to either side of it): two
+  // pairs, each pair moving the same way.
+  for (int k = 0; k < 500; ++k) {
+    const Vec3 o = rng.inBox(shift - Vec3(15, 15, 15), shift + Vec3(15, 15, 15));
+    Vec3 d = rng.direction();
+    for (int a = 0; a < 3; ++a)
+      if (std::fabs(d[a]) < 0.1) d[a] = 0.1;
+    std::array<Ray, kLanes> packet;
+    for (int i = 0; i < kLanes; ++i) {
+      Vec3 di = sameSigns(d + rng.direction() * 0.05, d);
+      if (i >= 2) di[k % 3] = -di[k % 3];
+      packet[i] = {o, di};
+    }
+    packets.push_back(packet);
+  }
   // Lanes on their own: independent rays, and components of 0.
   for (int k = 0; k < 300; ++k) {
     std::array<Ray, kLanes> packet;
@@ -381,15 +398,20 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
     }
     packets.push_back(packet);
   }
-  int together = 0, calls = 0, hits = 0;
+  // Leaf calls that serve several lanes of a packet whose lanes do not all
+  // move the same way: its groups that do walk together.
+  int together = 0, calls = 0, hits = 0, sharedInParted = 0;
   for (size_t k = 0; k < packets.size(); ++k) {
     const std::array<Ray, kLanes> &rays = packets[k];
     // Every fifth packet leaves a lane out.
     const uint32_t lanes = k % 5 == 0 ? 0xfu & ~(1u << (k / 5 % kLanes)) : 0xfu;
+    // Whether the lanes in `lanes` all move the same way.
+    const Vec3 &first = rays[std::countr_zero(lanes)].d;
     bool signsAgree = true;
-    for (int i = 1; i < kLanes; ++i)
+    for (int i = 0; i < kLanes; ++i)
       for (int a = 0; a < 3; ++a)
-        signsAgree = signsAgree && rays[i].d[a] != 0 && (rays[i].d[a] < 0) == (rays[0].d[a] < 0);
+        signsAgree = signsAgree && (!(lanes >> i & 1u) ||
+                                    (rays[i].d[a] != 0 && (rays[i].d[a] < 0) == (first[a] < 0)));
     together += signsAgree;
     std::vector<LeafCall> expected[kLanes], got[kLanes];
     Nearest expectedBest[kLanes], gotBest[kLanes];
@@ -407,6 +429,7 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
     const uint32_t found = tree.traversePacket<AnyHit>(
         rays.data(), lanes, tMax, [&](uint32_t offset, uint32_t count, uint32_t in, double *t) {
           uint32_t hit = 0;
+          sharedInParted += !signsAgree && std::popcount(in) > 1;
           for (int i = 0; i < kLanes; ++i) {
             if (!(in >> i & 1u)) continue;
             EXPECT_TRUE(lanes >> i & 1u);
@@ -429,6 +452,7 @@ template <bool AnyHit> void checkPacketsMatchGeneralLoop(double far) {
   }
   ASSERT_GT(planes.size(), 100u);
   EXPECT_GT(together, static_cast<int>(packets.size() / 2));
+  EXPECT_GT(sharedInParted, 500);
   EXPECT_GT(calls, static_cast<int>(2 * packets.size()));
   EXPECT_GT(hits, static_cast<int>(packets.size()));
 }

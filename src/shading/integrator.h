@@ -20,6 +20,7 @@
 #include "shading/material_table.h"
 #include "shading/pigment.h"
 #include "shading/ray_counts.h"
+#include "shading/shadow_batch.h"
 #include "shading/shadow_shaft.h"
 
 #include <cstddef>
@@ -146,6 +147,8 @@ private:
     /// Entries of pending, shadowRays, blocked and targets (at least the
     /// points lit together).
     size_t capacity = 1;
+    /// With lanes: where their rounds' shadow rays wait to be traced.
+    ShadowBatch *batch = nullptr;
   };
   /// directLight's rounds of an area light taken together (a batch).
   static constexpr size_t kPointRounds = 64;
@@ -179,15 +182,23 @@ private:
   /// lanes.clearRay[j] for the valid lanes j of `span` after a round whose
   /// shaft over the whole span was not clear (`whole`: its candidates):
   /// each kShaftLanes lanes get their own shaft, clear (no ray traced) or
-  /// with a few analytic candidates (tested alone), and the rest go to the
-  /// accelerator together, but for those that the entity last found
-  /// blocking their point's rays (lanes.occluder) blocks again.
-  void markClearLanes(LightLanes &lanes, LaneSpan span, const ShadowShafts::Candidates &whole,
-                      const LightScratch &scratch, RayCounts &counts) const;
+  /// with a few analytic candidates (tested alone), and the rest wait in
+  /// `batch` for the accelerator as its next round's (their flags 0 until
+  /// it is traced), but for those that the entity last found blocking
+  /// their point's rays (lanes.occluder) blocks again. Returns how many
+  /// wait.
+  size_t markClearLanes(LightLanes &lanes, LaneSpan span, const ShadowShafts::Candidates &whole,
+                        ShadowBatch &batch, RayCounts &counts) const;
+  /// Traces the batch's waiting rays together, point by point, updates
+  /// lanes.occluder from what blocked them, and adds its rounds' light
+  /// (lightColor, weight) in the order taken; the batch is empty after.
+  void traceBatch(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+                  ShadowBatch &batch) const;
 
   /// addDirectLight's loop for a still Light of several cells (all of them
   /// or, with spread light sampling, each point's share), on lanes.count
-  /// points in lanes: the same draws, rays, counts and sums, round by round.
+  /// points in lanes: the same draws, rays, counts and sums, round by round,
+  /// the rounds' shadow rays traced in batches (scratch.batch).
   void addLightInLanes(const Light::Sampler &light, LightLanes &lanes, Sampler *samplers,
                        const LightScratch &scratch, Color *sums, RayCounts &counts) const;
 

@@ -14,6 +14,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <memory>
 
 namespace lray {
 
@@ -244,6 +245,8 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
   }
   std::fill_n(lanes.occluder, lanes.count, kNoEntity);
   lanes.anyOccluder = false;
+  ShadowBatch &batch = *scratch.batch;
+  batch.clear();
   // The jitter drawn in lanes too, unless a point's sampler is stratified.
   const bool drawInLanes = loadSamplers(lanes, samplers);
   const LaneSpan span{0, lanes.count};
@@ -253,23 +256,35 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
   const int shares = static_cast<int>(std::min<uint32_t>(lightShares_, cells));
   const int rounds = (cells + shares - 1) / shares;
   const double shareWeight = shares;
+  const bool batched = rounds >= static_cast<int>(ShadowBatch::kMinRounds);
   for (int round = 0; round < rounds; ++round) {
     if (shares == 1 && drawInLanes)
       placeLanes(lanes, span, light, round / light.cols(), round % light.cols());
     else
       placeSpread(lanes, span, light, round, shares, samplers, drawInLanes);
     const LightRound lit = lightLanesRound(lanes, span, grid);
-    if (lit.valid == 0) continue;
-    // As addDirectLight: nothing in the shaft, every ray is clear.
-    ShadowShafts::Candidates candidates;
-    if (shafts_.enabled() && lit.finite) candidates = shafts_.candidates(lit.from, lit.to);
-    if (candidates.clear) {
-      addLit(lanes, span, lightColor, shareWeight, lanes.valid);
-      counts.shadowSkipped += lit.valid;
-      continue;
+    if (lit.valid != 0) {
+      // As addDirectLight: nothing in the shaft, every ray is clear.
+      ShadowShafts::Candidates candidates;
+      if (shafts_.enabled() && lit.finite) candidates = shafts_.candidates(lit.from, lit.to);
+      const uint8_t *add = lanes.valid;
+      size_t waiting = 0;
+      if (candidates.clear) {
+        counts.shadowSkipped += lit.valid;
+      } else {
+        waiting = markClearLanes(lanes, span, candidates, batch, counts);
+        add = lanes.clearRay;
+      }
+      // Settled without the accelerator, and no round before it waits:
+      // its light is added now.
+      if (waiting == 0 && batch.rounds == 0) addLit(lanes, span, lightColor, shareWeight, add);
+      else batch.hold(lanes, span, add);
     }
-    markClearLanes(lanes, span, candidates, scratch, counts);
-    addLit(lanes, span, lightColor, shareWeight, lanes.clearRay);
+    // The rounds' shadow rays are traced together (ShadowBatch), but the
+    // first round's alone: what blocks them names each point's occluder
+    // for the rounds after it.
+    if (!batched || round == 0 || batch.full() || round + 1 == rounds)
+      traceBatch(lanes, span, lightColor, shareWeight, batch);
   }
   for (size_t j = 0; j < lanes.count; ++j)
     sums[lanes.point[j]] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
@@ -277,11 +292,10 @@ void Integrator<Accel>::addLightInLanes(const Light::Sampler &light, LightLanes 
 }
 
 template <class Accel>
-void Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
-                                       const ShadowShafts::Candidates &whole,
-                                       const LightScratch &scratch, RayCounts &counts) const {
-  Ray *__restrict rays = scratch.shadowRays;
-  uint8_t *__restrict blocked = scratch.blocked;
+size_t Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
+                                         const ShadowShafts::Candidates &whole,
+                                         ShadowBatch &batch, RayCounts &counts) const {
+  Ray *__restrict rays = batch.rays + batch.count;
   uint8_t *clear = lanes.clearRay;
   // To the end of the last group of four: addLit reads flags four at a time.
   std::fill(clear + span.begin, clear + ((span.end + 3) & ~size_t{3}), uint8_t{0});
@@ -333,15 +347,29 @@ void Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
       ++n;
     }
   }
-  if (n == 0) return;
-  accel_.occludedCoherent(rays, n, blocked, lanes.blocker);
-  for (size_t k = 0; k < n; ++k) {
-    const uint32_t lane = lanes.rayLane[k];
-    clear[lane] = !blocked[k];
-    if (!blocked[k]) continue;
-    lanes.occluder[lane] = lanes.blocker[k];
-    lanes.anyOccluder = lanes.anyOccluder || lanes.blocker[k] != kNoEntity;
+  // As the batch's next round; their lanes' flags stay 0 until it is traced.
+  batch.wait(lanes, n, batch.rounds);
+  return n;
+}
+
+template <class Accel>
+void Integrator<Accel>::traceBatch(LightLanes &lanes, LaneSpan span, const Color &lightColor,
+                                   double weight, ShadowBatch &batch) const {
+  if (batch.count != 0) {
+    accel_.occludedCoherent(batch.sort(), batch.count, batch.blocked, batch.blocker);
+    // In the order taken: a point's last blocked ray names its occluder.
+    for (size_t k = 0; k < batch.count; ++k) {
+      const uint32_t at = batch.at[k], lane = batch.lane[k];
+      batch.add[batch.round[k]][lane] = !batch.blocked[at];
+      if (!batch.blocked[at]) continue;
+      lanes.occluder[lane] = batch.blocker[at];
+      lanes.anyOccluder = lanes.anyOccluder || batch.blocker[at] != kNoEntity;
+    }
   }
+  for (size_t r = 0; r < batch.rounds; ++r)
+    addLit(lanes, span, {batch.cr[r], batch.cg[r], batch.cb[r]}, lightColor, weight,
+           batch.add[r]);
+  batch.clear();
 }
 
 template <class Accel>
@@ -402,6 +430,10 @@ template <class Accel> struct Integrator<Accel>::TileScratch {
   std::array<SpawnOrigins, kMaxTileRays> origins;
   std::array<Vec3, kMaxTileRays> targets;
   LightLanes lanes;
+  // On the heap: a thread's static TLS comes out of its stack, and the
+  // batch is most of a megabyte. Not zeroed (new, not make_unique): a
+  // light of few cells touches only the first pages of its arrays.
+  std::unique_ptr<ShadowBatch> batch{new ShadowBatch};
 };
 
 template <class Accel>
@@ -422,7 +454,8 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   }
   addDirectLight(hits, surface.data(), found, samplers, count, true,
                  {scratch.pending.data(), scratch.shadowRays.data(), scratch.blocked.data(),
-                  scratch.origins.data(), scratch.targets.data(), &scratch.lanes, kMaxTileRays},
+                  scratch.origins.data(), scratch.targets.data(), &scratch.lanes, kMaxTileRays,
+                  scratch.batch.get()},
                  lightSum.data(), counts);
   for (size_t i = 0; i < count; ++i) {
     if (!found[i]) {

@@ -242,15 +242,15 @@ LRAY_AVX2 void roundAvx2(LightLanes &s, LaneSpan span, const LightGrid &grid, Li
 }
 
 /// sums += lightColor * c in each lane where add[j] (4 lanes at a time).
-LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const Color &lightColor, double weight,
-                          const uint8_t *add) {
+LRAY_AVX2 void addLitAvx2(LightLanes &s, LaneSpan span, const LitColours &c,
+                          const Color &lightColor, double weight, const uint8_t *add) {
   const __m256d lr = all(lightColor.r), lg = all(lightColor.g), lb = all(lightColor.b);
   const __m256d w = all(weight);
   for (size_t j = span.begin; j < span.end; j += 4) {
     const __m256d on = flagged(add, j);
-    put(s.sr, j, select(on, at(s.sr, j) + lr * at(s.cr, j) * w, at(s.sr, j)));
-    put(s.sg, j, select(on, at(s.sg, j) + lg * at(s.cg, j) * w, at(s.sg, j)));
-    put(s.sb, j, select(on, at(s.sb, j) + lb * at(s.cb, j) * w, at(s.sb, j)));
+    put(s.sr, j, select(on, at(s.sr, j) + lr * at(c.r, j) * w, at(s.sr, j)));
+    put(s.sg, j, select(on, at(s.sg, j) + lg * at(c.g, j) * w, at(s.sg, j)));
+    put(s.sb, j, select(on, at(s.sb, j) + lb * at(c.b, j) * w, at(s.sb, j)));
   }
   _mm256_zeroupper();
 }
@@ -378,12 +378,12 @@ LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &gr
   return round;
 }
 
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
-            const uint8_t *add, bool avx2) {
-  if (avx2) return addLitAvx2(lanes, span, lightColor, weight, add);
+void addLit(LightLanes &lanes, LaneSpan span, const LitColours &c, const Color &lightColor,
+            double weight, const uint8_t *add, bool avx2) {
+  if (avx2) return addLitAvx2(lanes, span, c, lightColor, weight, add);
   for (size_t j = span.begin; j < span.end; ++j) {
     if (!add[j]) continue;
-    const Color lit = lightColor * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]) * weight;
+    const Color lit = lightColor * Color(c.r[j], c.g[j], c.b[j]) * weight;
     lanes.sr[j] += lit.r, lanes.sg[j] += lit.g, lanes.sb[j] += lit.b;
   }
 }
@@ -393,9 +393,9 @@ LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &gr
   return detail::lightLanesRound(lanes, span, grid, cpuHasAvx2());
 }
 
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
-            const uint8_t *add) {
-  detail::addLit(lanes, span, lightColor, weight, add, cpuHasAvx2());
+void addLit(LightLanes &lanes, LaneSpan span, const LitColours &c, const Color &lightColor,
+            double weight, const uint8_t *add) {
+  detail::addLit(lanes, span, c, lightColor, weight, add, cpuHasAvx2());
 }
 
 void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,

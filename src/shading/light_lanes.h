@@ -80,9 +80,6 @@ struct LightLanes {
   uint32_t occluder[kMax];
   /// Whether some point's occluder is set (none is in a scene of meshes).
   bool anyOccluder = false;
-  /// Scratch for the caller: what blocked each ray of a round
-  /// (Accelerator::occludedCoherent's blockers).
-  uint32_t blocker[kMax];
 
   /// No points yet.
   void clear() {
@@ -129,18 +126,29 @@ struct LightRound {
 /// (ax, az).
 LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid);
 
-/// The round's light at the lanes j in `span` where add[j] (the valid
-/// ones whose shadow ray is clear): sums += lightColor * c * weight (the
-/// weight of a spread share; 1 is exact).
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
-            const uint8_t *add);
+/// A round's colours: lightLanesRound's cr, cg and cb, or a copy held
+/// (ShadowBatch).
+struct LitColours {
+  const double *r, *g, *b;
+};
+
+/// A round's light at the lanes j in `span` where add[j] (the valid ones
+/// whose shadow ray is clear): sums += lightColor * c * weight (c: the
+/// round's colours; the weight of a spread share, 1 is exact).
+void addLit(LightLanes &lanes, LaneSpan span, const LitColours &c, const Color &lightColor,
+            double weight, const uint8_t *add);
+/// The same with the colours of the round just taken.
+inline void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
+                   const uint8_t *add) {
+  addLit(lanes, span, {lanes.cr, lanes.cg, lanes.cb}, lightColor, weight, add);
+}
 
 namespace detail {
 /// lightLanesRound and addLit with the path chosen: AVX2 lanes (`avx2`,
 /// only where the CPU has it) or one lane at a time. Tests compare the two.
 LightRound lightLanesRound(LightLanes &lanes, LaneSpan span, const LightGrid &grid, bool avx2);
-void addLit(LightLanes &lanes, LaneSpan span, const Color &lightColor, double weight,
-            const uint8_t *add, bool avx2);
+void addLit(LightLanes &lanes, LaneSpan span, const LitColours &c, const Color &lightColor,
+            double weight, const uint8_t *add, bool avx2);
 void placeLanes(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int row, int col,
                 bool avx2);
 void placeSpread(LightLanes &lanes, LaneSpan span, const Light::Sampler &light, int round,

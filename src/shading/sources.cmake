@@ -4,4 +4,4 @@ list(APPEND LRAY_CORE_SOURCES src/shading/pigments/perlin_noise.cpp src/shading/
      src/shading/pigments/checker_pigment_2d.cpp src/shading/pigments/checker_pigment_3d.cpp
      src/shading/pigments/marble_pigment_3d.cpp src/shading/pigments/wood_pigment_3d.cpp
      src/shading/pigments/image_pigment_2d.cpp
-     src/shading/material_table.cpp)
+     src/shading/material_table.cpp src/shading/shadow_batch.cpp)

@@ -1,16 +1,19 @@
 // Tests for src/shading: a BruteForceAccelerator that counts the shadow
-// rays given to occludedCoherent and may keep their blockers to itself.
+// rays given to occludedCoherent, keeps each call's, and may keep their
+// blockers to itself.
 #pragma once
 
 #include "shading/brute_force_accelerator.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace lray::testing {
 
 /// A BruteForceAccelerator with the shared shape code, counting the shadow
-/// rays given to occludedCoherent and those found blocked; with `nameBlockers` false it names no
-/// blocker (as for a mesh), so the integrator has no occluder to test first.
+/// rays given to occludedCoherent and those found blocked, each call's rays
+/// kept (calls); with `nameBlockers` false it names no blocker (as for a
+/// mesh), so the integrator has no occluder to test first.
 class CountingAccelerator final : public Accelerator {
 public:
   CountingAccelerator(const Scene &scene, bool nameBlockers)
@@ -23,12 +26,14 @@ public:
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
                         uint32_t *blockers) const override {
     coherentShadowRays += count;
+    calls.emplace_back(rays, rays + count);
     inner_.occludedCoherent(rays, count, occluded, nameBlockers_ ? blockers : nullptr);
     if (!nameBlockers_ && blockers) std::fill_n(blockers, count, kNoEntity);
     for (size_t i = 0; i < count; ++i) blockedRays += occluded[i];
   }
   AcceleratorStats stats() const override { return {}; }
   mutable size_t coherentShadowRays = 0, blockedRays = 0;
+  mutable std::vector<std::vector<Ray>> calls;
 
 private:
   BruteForceAccelerator inner_;

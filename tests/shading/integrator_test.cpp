@@ -317,6 +317,96 @@ TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
   EXPECT_LT(blocked[true] * 4, blocked[false]);
 }
 
+/// How a call's rays group by origin: the origins they start from, and
+/// whether each origin's rays are consecutive.
+struct OriginRuns {
+  size_t origins = 0;
+  bool consecutive = true;
+};
+OriginRuns originRuns(const std::vector<Ray> &rays) {
+  OriginRuns runs;
+  std::vector<Vec3> seen;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    if (k > 0 && rays[k].o == rays[k - 1].o) continue;
+    const bool again = std::find(seen.begin(), seen.end(), rays[k].o) != seen.end();
+    runs.consecutive = runs.consecutive && !again;
+    if (!again) seen.push_back(rays[k].o);
+  }
+  runs.origins = seen.size();
+  return runs;
+}
+
+// A tile's area-light rounds hold their shadow rays and trace them
+// together point by point (ShadowBatch): the first round alone (its
+// blockers name each point's occluder), then up to 16 rounds at once, each
+// point's rays one after another. The colours and draws are shadeHit's
+// ray by ray: the floor under rows of balls of
+// LastOccluderFirstGivesTheSameTile, an area light of 5 x 5 cells.
+TEST(Integrator, AreaLightRoundsTraceTogetherPointByPoint) {
+  SceneBuilder b;
+  b.scene.background = kSky;
+  b.quad(Transform::scale(6, 1, 6) * Transform::translate({0, -1, 0}),
+         b.texture(Finish{}, {0.8, 0.7, 0.6}));
+  for (int i = 0; i < 24; ++i)
+    b.add(ShapeKind::Sphere,
+          Transform::translate({0.5 * (i % 8) - 1.75, -0.7, 0.6 * (i / 8) - 0.3}) *
+              Transform::scale(0.25, 0.25, 0.25),
+          b.texture(Finish{}, kRed));
+  b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, 5, 5,
+          true);
+  constexpr size_t kCount = kTileRays;
+  const std::vector<Ray> rays = tileRays({0, 1.5, -6}, 0.5, 0.3, -0.3);
+  // Each point's 25 cells, and spread over 3 shares (9 rounds: 1 and 8).
+  for (const uint32_t shares : {1u, 3u}) {
+    SCOPED_TRACE("light shares " + std::to_string(shares));
+    CountingAccelerator accel(b.scene, true);
+    ImageCache images(false);
+    IntegratorOptions options;
+    options.shadowSkips = false; // every ray the occluder does not settle is traced
+    options.lightShares = shares;
+    Integrator<CountingAccelerator> integrator(b.scene, accel, images, options);
+    std::vector<Hit> hits(kCount);
+    std::vector<uint8_t> found(kCount);
+    accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
+    std::vector<Sampler> tileSamplers;
+    for (size_t i = 0; i < kCount; ++i) {
+      tileSamplers.emplace_back(5, i, 0);
+      tileSamplers.back().lightStratum = static_cast<uint32_t>(i % 5);
+    }
+    std::vector<Sampler> raySamplers = tileSamplers;
+    std::vector<Color> tile(kCount);
+    RayCounts tileCounts, rayCounts;
+    integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
+                         tile.data(), tileCounts);
+    const std::vector<std::vector<Ray>> calls = accel.calls;
+    size_t hitCount = 0;
+    for (size_t i = 0; i < kCount; ++i) {
+      const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
+                                                            rayCounts)
+                                      : integrator.background();
+      EXPECT_EQ(tile[i], expected) << "ray " << i;
+      EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
+      hitCount += found[i];
+    }
+    EXPECT_GT(hitCount, kCount / 2);
+    const size_t rounds = shares == 1 ? 25 : 9;
+    ASSERT_EQ(calls.size(), shares == 1 ? 3u : 2u);
+    // The first round: one ray a point, for each point that faces the light.
+    const OriginRuns first = originRuns(calls[0]);
+    EXPECT_EQ(first.origins, calls[0].size());
+    EXPECT_GT(calls[0].size(), hitCount * 3 / 4);
+    // The others: each point's rays together, several a point (fewer than
+    // all its rounds', those its occluder blocked settled without a call).
+    for (size_t c = 1; c < calls.size(); ++c) {
+      const size_t held = std::min<size_t>(ShadowBatch::kRounds, rounds - 1 - 16 * (c - 1));
+      const OriginRuns runs = originRuns(calls[c]);
+      EXPECT_TRUE(runs.consecutive) << "call " << c;
+      EXPECT_GE(runs.origins, calls[0].size() * 9 / 10) << "call " << c;
+      EXPECT_GT(calls[c].size(), runs.origins * held * 3 / 4) << "call " << c;
+    }
+  }
+}
+
 // shadeTile batches the camera hits' shadow rays light sample by light
 // sample (occludedCoherent), an area light in lanes; every colour, count
 // and sampler draw must be what shadeHit gives ray by ray: a lit floor partly shadowed by spheres

@@ -215,7 +215,8 @@ void checkAddLit(bool avx2, double weight) {
     expected[j] = {lanes.sr[j], lanes.sg[j], lanes.sb[j]};
     if (add[j]) expected[j] += light * Color(lanes.cr[j], lanes.cg[j], lanes.cb[j]) * weight;
   }
-  detail::addLit(lanes, {0, lanes.count}, light, weight, add, avx2);
+  detail::addLit(lanes, {0, lanes.count}, {lanes.cr, lanes.cg, lanes.cb}, light, weight, add,
+                 avx2);
   for (size_t j = 0; j < lanes.count; ++j) {
     EXPECT_SAME_BITS(lanes.sr[j], expected[j].r);
     EXPECT_SAME_BITS(lanes.sg[j], expected[j].g);

@@ -2,12 +2,11 @@
 // ordering their waiting rays point by point.
 #include "shading/shadow_batch.h"
 
-#include <algorithm>
 #include <cstring>
 
 namespace lray {
 
-size_t ShadowBatch::hold(const LightLanes &lanes, LaneSpan span, const uint8_t *flags) {
+void ShadowBatch::hold(const LightLanes &lanes, LaneSpan span, const uint8_t *flags) {
   const size_t r = rounds++;
   const size_t end = (span.end + 3) & ~size_t{3};
   const size_t n = end - span.begin;
@@ -15,7 +14,6 @@ size_t ShadowBatch::hold(const LightLanes &lanes, LaneSpan span, const uint8_t *
   std::memcpy(cg[r] + span.begin, lanes.cg + span.begin, n * sizeof(double));
   std::memcpy(cb[r] + span.begin, lanes.cb + span.begin, n * sizeof(double));
   std::memcpy(add[r] + span.begin, flags + span.begin, n);
-  return r;
 }
 
 void ShadowBatch::wait(const LightLanes &lanes, size_t n, size_t r) {

@@ -17,6 +17,7 @@
 namespace lray {
 
 struct ShadowBatch {
+  /// The most rounds a batch holds (all of a 4 x 4 light's after the first).
   static constexpr size_t kRounds = 16;
   /// A light of fewer rounds traces them one by one: after its first round
   /// (traced alone) a batch would hold too few rays a point for packets of
@@ -50,10 +51,10 @@ struct ShadowBatch {
 
   void clear() { rounds = count = waitingRounds = 0; }
   bool full() const { return rounds == kRounds; }
-  /// Holds the round just taken in `lanes` (lanes of `span`): its colours
-  /// and `add` flags (read to the end of the last group of four, as
-  /// addLit reads them). Returns its index in the batch.
-  size_t hold(const LightLanes &lanes, LaneSpan span, const uint8_t *add);
+  /// Holds the round just taken in `lanes` (lanes of `span`) as the
+  /// batch's next: its colours and `add` flags (read to the end of the
+  /// last group of four, as addLit reads them).
+  void hold(const LightLanes &lanes, LaneSpan span, const uint8_t *add);
   /// Marks rays[count, count + n), whose lanes are lanes.rayLane[0, n), as
   /// round `r`'s, waiting.
   void wait(const LightLanes &lanes, size_t n, size_t r);

@@ -13,8 +13,10 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <unistd.h>
 
@@ -263,11 +265,60 @@ TEST_P(IntegratorTest, ShadeHitMatchesTrace) {
   EXPECT_EQ(c1.reflection, 1u);
 }
 
-// A tile's area-light rounds test each point's last occluder first
-// (markClearLanes): a floor under three rows of balls, an area light of 4 x 4
-// cells. The colours, counts and draws are the same as with no occluder
-// named, and fewer shadow rays go to the accelerator.
-TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
+/// Shades a tile's hits (rays, hits, found) with copies of `samplers`
+/// through shadeTile (then calls afterTile) and expects each ray's colour
+/// and draws to be shadeHit's ray by ray (a miss: the background); returns
+/// the tile's colours, with each way's ray counts.
+template <class Accel>
+std::vector<Color> expectTileMatchesRayByRay(
+    const Integrator<Accel> &integrator, const std::vector<Ray> &rays,
+    const std::vector<Hit> &hits, const std::vector<uint8_t> &found,
+    const std::vector<Sampler> &samplers, RayCounts &tileCounts, RayCounts &rayCounts,
+    const std::function<void()> &afterTile = [] {}) {
+  const size_t n = rays.size();
+  std::vector<Sampler> tileSamplers = samplers, raySamplers = samplers;
+  std::vector<Color> tile(n);
+  integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), n, tile.data(),
+                       tileCounts);
+  afterTile();
+  for (size_t i = 0; i < n; ++i) {
+    const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
+                                                          rayCounts)
+                                    : integrator.background();
+    EXPECT_EQ(tile[i], expected) << "ray " << i;
+    // Both consumed the same draws: their next ones agree.
+    EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
+  }
+  return tile;
+}
+
+/// A tile's camera rays through `scene` traced with a CountingAccelerator,
+/// and the integrator to shade them, without shafts (as in a scene of more
+/// than ShadowShafts::kMaxEntities): every shadow ray its occluder does not
+/// settle goes to the accelerator.
+struct CountedTile {
+  CountedTile(const Scene &scene, bool nameBlockers, uint32_t lightShares,
+              const std::vector<Ray> &rays)
+      : accel(scene, nameBlockers), integrator(scene, accel, images, options(lightShares)),
+        hits(rays.size()), found(rays.size()) {
+    accel.intersectCoherent(rays.data(), rays.size(), hits.data(), found.data());
+  }
+  static IntegratorOptions options(uint32_t lightShares) {
+    IntegratorOptions o;
+    o.shadowSkips = false;
+    o.lightShares = lightShares;
+    return o;
+  }
+  CountingAccelerator accel;
+  ImageCache images{false};
+  Integrator<CountingAccelerator> integrator;
+  std::vector<Hit> hits;
+  std::vector<uint8_t> found;
+};
+
+/// A floor under three rows of balls, an area light of n x n cells above,
+/// for tileRays({0, 1.5, -6}, 0.5, 0.3, -0.3).
+SceneBuilder ballsUnderAreaLight(int n) {
   SceneBuilder b;
   b.scene.background = kSky;
   b.quad(Transform::scale(6, 1, 6) * Transform::translate({0, -1, 0}),
@@ -277,8 +328,17 @@ TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
           Transform::translate({0.5 * (i % 8) - 1.75, -0.7, 0.6 * (i / 8) - 0.3}) *
               Transform::scale(0.25, 0.25, 0.25),
           b.texture(Finish{}, kRed));
-  b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, 4, 4,
+  b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, n, n,
           true);
+  return b;
+}
+
+// A tile's area-light rounds test each point's last occluder first
+// (markClearLanes): a floor under three rows of balls, an area light of 4 x 4
+// cells. The colours, counts and draws are the same as with no occluder
+// named, and fewer shadow rays go to the accelerator.
+TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
+  SceneBuilder b = ballsUnderAreaLight(4);
   constexpr size_t kCount = kTileRays;
   const std::vector<Ray> rays = tileRays({0, 1.5, -6}, 0.5, 0.3, -0.3);
   std::vector<Color> tiles[2];
@@ -286,21 +346,13 @@ TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
   RayCounts counts[2];
   size_t traced[2], blocked[2];
   for (const bool named : {false, true}) {
-    CountingAccelerator accel(b.scene, named);
-    ImageCache images(false);
-    // No shafts (as in a scene of more than ShadowShafts::kMaxEntities):
-    // every ray not settled by its occluder goes to the accelerator.
-    IntegratorOptions options;
-    options.shadowSkips = false;
-    Integrator<CountingAccelerator> integrator(b.scene, accel, images, options);
-    std::vector<Hit> hits(kCount);
-    std::vector<uint8_t> found(kCount);
-    accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
+    CountedTile t(b.scene, named, 1, rays);
+    CountingAccelerator &accel = t.accel;
     std::vector<Sampler> samplers;
     for (size_t i = 0; i < kCount; ++i) samplers.emplace_back(5, i, 0);
     tiles[named].resize(kCount);
-    integrator.shadeTile(rays.data(), hits.data(), found.data(), samplers.data(), kCount,
-                         tiles[named].data(), counts[named]);
+    t.integrator.shadeTile(rays.data(), t.hits.data(), t.found.data(), samplers.data(), kCount,
+                           tiles[named].data(), counts[named]);
     for (Sampler &sampler : samplers) nextDraws[named].push_back(sampler.next());
     traced[named] = accel.coherentShadowRays;
     blocked[named] = accel.blockedRays;
@@ -340,54 +392,25 @@ OriginRuns originRuns(const std::vector<Ray> &rays) {
 // together point by point (ShadowBatch): the first round alone (its
 // blockers name each point's occluder), then up to 16 rounds at once, each
 // point's rays one after another. The colours and draws are shadeHit's
-// ray by ray: the floor under rows of balls of
-// LastOccluderFirstGivesTheSameTile, an area light of 5 x 5 cells.
+// ray by ray: the floor under rows of balls, an area light of 5 x 5 cells.
 TEST(Integrator, AreaLightRoundsTraceTogetherPointByPoint) {
-  SceneBuilder b;
-  b.scene.background = kSky;
-  b.quad(Transform::scale(6, 1, 6) * Transform::translate({0, -1, 0}),
-         b.texture(Finish{}, {0.8, 0.7, 0.6}));
-  for (int i = 0; i < 24; ++i)
-    b.add(ShapeKind::Sphere,
-          Transform::translate({0.5 * (i % 8) - 1.75, -0.7, 0.6 * (i / 8) - 0.3}) *
-              Transform::scale(0.25, 0.25, 0.25),
-          b.texture(Finish{}, kRed));
-  b.light(Transform::translate({-1, 5, -2}) * Transform::scale(2, 1, 2), {0.9, 0.9, 0.9}, 5, 5,
-          true);
+  SceneBuilder b = ballsUnderAreaLight(5);
   constexpr size_t kCount = kTileRays;
   const std::vector<Ray> rays = tileRays({0, 1.5, -6}, 0.5, 0.3, -0.3);
   // Each point's 25 cells, and spread over 3 shares (9 rounds: 1 and 8).
   for (const uint32_t shares : {1u, 3u}) {
     SCOPED_TRACE("light shares " + std::to_string(shares));
-    CountingAccelerator accel(b.scene, true);
-    ImageCache images(false);
-    IntegratorOptions options;
-    options.shadowSkips = false; // every ray the occluder does not settle is traced
-    options.lightShares = shares;
-    Integrator<CountingAccelerator> integrator(b.scene, accel, images, options);
-    std::vector<Hit> hits(kCount);
-    std::vector<uint8_t> found(kCount);
-    accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
-    std::vector<Sampler> tileSamplers;
+    CountedTile t(b.scene, true, shares, rays);
+    std::vector<Sampler> samplers;
     for (size_t i = 0; i < kCount; ++i) {
-      tileSamplers.emplace_back(5, i, 0);
-      tileSamplers.back().lightStratum = static_cast<uint32_t>(i % 5);
+      samplers.emplace_back(5, i, 0);
+      samplers.back().lightStratum = static_cast<uint32_t>(i % 5);
     }
-    std::vector<Sampler> raySamplers = tileSamplers;
-    std::vector<Color> tile(kCount);
     RayCounts tileCounts, rayCounts;
-    integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
-                         tile.data(), tileCounts);
-    const std::vector<std::vector<Ray>> calls = accel.calls;
-    size_t hitCount = 0;
-    for (size_t i = 0; i < kCount; ++i) {
-      const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
-                                                            rayCounts)
-                                      : integrator.background();
-      EXPECT_EQ(tile[i], expected) << "ray " << i;
-      EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
-      hitCount += found[i];
-    }
+    std::vector<std::vector<Ray>> calls; // the tile's
+    expectTileMatchesRayByRay(t.integrator, rays, t.hits, t.found, samplers, tileCounts,
+                              rayCounts, [&] { calls = t.accel.calls; });
+    const size_t hitCount = static_cast<size_t>(std::count(t.found.begin(), t.found.end(), 1));
     EXPECT_GT(hitCount, kCount / 2);
     const size_t rounds = shares == 1 ? 25 : 9;
     ASSERT_EQ(calls.size(), shares == 1 ? 3u : 2u);
@@ -398,7 +421,8 @@ TEST(Integrator, AreaLightRoundsTraceTogetherPointByPoint) {
     // The others: each point's rays together, several a point (fewer than
     // all its rounds', those its occluder blocked settled without a call).
     for (size_t c = 1; c < calls.size(); ++c) {
-      const size_t held = std::min<size_t>(ShadowBatch::kRounds, rounds - 1 - 16 * (c - 1));
+      const size_t held =
+          std::min(ShadowBatch::kRounds, rounds - 1 - ShadowBatch::kRounds * (c - 1));
       const OriginRuns runs = originRuns(calls[c]);
       EXPECT_TRUE(runs.consecutive) << "call " << c;
       EXPECT_GE(runs.origins, calls[0].size() * 9 / 10) << "call " << c;
@@ -450,24 +474,16 @@ TEST_P(IntegratorTest, ShadeTileMatchesShadeHitRayByRay) {
     std::vector<Hit> hits(kCount);
     std::vector<uint8_t> found(kCount);
     accel.intersectCoherent(rays.data(), kCount, hits.data(), found.data());
-    std::vector<Sampler> tileSamplers, raySamplers;
+    std::vector<Sampler> samplers;
     for (size_t i = 0; i < kCount; ++i) {
-      tileSamplers.emplace_back(7, i, 0);
-      tileSamplers.back().lightStratum = static_cast<uint32_t>(i % 7);
-      raySamplers.push_back(tileSamplers.back());
+      samplers.emplace_back(7, i, 0);
+      samplers.back().lightStratum = static_cast<uint32_t>(i % 7);
     }
-    std::vector<Color> tile(kCount);
     RayCounts tileCounts, rayCounts;
-    integrator.shadeTile(rays.data(), hits.data(), found.data(), tileSamplers.data(), kCount,
-                         tile.data(), tileCounts);
+    const std::vector<Color> tile =
+        expectTileMatchesRayByRay(integrator, rays, hits, found, samplers, tileCounts, rayCounts);
     size_t misses = 0, dark = 0;
     for (size_t i = 0; i < kCount; ++i) {
-      const Color expected = found[i] ? integrator.shadeHit(rays[i], hits[i], raySamplers[i],
-                                                            rayCounts)
-                                      : integrator.background();
-      EXPECT_EQ(tile[i], expected) << "ray " << i;
-      // Both consumed the same draws: their next ones agree.
-      EXPECT_EQ(tileSamplers[i].next(), raySamplers[i].next()) << "ray " << i;
       misses += !found[i];
       dark += found[i] && tile[i].r < 0.2;
     }

@@ -17,7 +17,6 @@ void ShadowBatch::hold(const LightLanes &lanes, LaneSpan span, const uint8_t *fl
 }
 
 void ShadowBatch::wait(const LightLanes &lanes, size_t n, size_t r) {
-  waitingRounds += n != 0;
   for (size_t k = 0; k < n; ++k) {
     lane[count + k] = static_cast<uint16_t>(lanes.rayLane[k]);
     round[count + k] = static_cast<uint8_t>(r);
@@ -26,7 +25,8 @@ void ShadowBatch::wait(const LightLanes &lanes, size_t n, size_t r) {
 }
 
 const Ray *ShadowBatch::sort() {
-  if (waitingRounds <= 1) {
+  // Taken round by round: the first and last rays' rounds bound them all.
+  if (count == 0 || round[0] == round[count - 1]) {
     for (size_t k = 0; k < count; ++k) at[k] = static_cast<uint32_t>(k);
     return rays;
   }

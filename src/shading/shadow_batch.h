@@ -35,8 +35,8 @@ struct ShadowBatch {
   alignas(32) uint8_t add[kRounds][kLanes];
 
   /// The rays waiting for the accelerator, rays[0, count) in the order
-  /// taken, with each one's lane and round, from `waitingRounds` rounds.
-  size_t count = 0, waitingRounds = 0;
+  /// taken, with each one's lane and round.
+  size_t count = 0;
   Ray rays[kRays];
   uint16_t lane[kRays];
   uint8_t round[kRays];
@@ -49,7 +49,7 @@ struct ShadowBatch {
   uint8_t blocked[kRays];
   uint32_t blocker[kRays];
 
-  void clear() { rounds = count = waitingRounds = 0; }
+  void clear() { rounds = count = 0; }
   bool full() const { return rounds == kRounds; }
   /// Holds the round just taken in `lanes` (lanes of `span`) as the
   /// batch's next: its colours and `add` flags (read to the end of the

@@ -25,14 +25,19 @@ public:
   }
   void occludedCoherent(const Ray *rays, size_t count, uint8_t *occluded,
                         uint32_t *blockers) const override {
-    coherentShadowRays += count;
     calls.emplace_back(rays, rays + count);
     inner_.occludedCoherent(rays, count, occluded, nameBlockers_ ? blockers : nullptr);
     if (!nameBlockers_ && blockers) std::fill_n(blockers, count, kNoEntity);
     for (size_t i = 0; i < count; ++i) blockedRays += occluded[i];
   }
   AcceleratorStats stats() const override { return {}; }
-  mutable size_t coherentShadowRays = 0, blockedRays = 0;
+  /// The shadow rays given to occludedCoherent, over all calls.
+  size_t coherentShadowRays() const {
+    size_t n = 0;
+    for (const std::vector<Ray> &call : calls) n += call.size();
+    return n;
+  }
+  mutable size_t blockedRays = 0;
   mutable std::vector<std::vector<Ray>> calls;
 
 private:

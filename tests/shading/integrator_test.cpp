@@ -354,7 +354,7 @@ TEST(Integrator, LastOccluderFirstGivesTheSameTile) {
     t.integrator.shadeTile(rays.data(), t.hits.data(), t.found.data(), samplers.data(), kCount,
                            tiles[named].data(), counts[named]);
     for (Sampler &sampler : samplers) nextDraws[named].push_back(sampler.next());
-    traced[named] = accel.coherentShadowRays;
+    traced[named] = accel.coherentShadowRays();
     blocked[named] = accel.blockedRays;
   }
   for (size_t i = 0; i < kCount; ++i) EXPECT_EQ(tiles[true][i], tiles[false][i]) << "ray " << i;

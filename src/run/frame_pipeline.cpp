@@ -3,13 +3,13 @@
 
 #include "bindings/scene_script.h"
 #include "render/backends.h"
+#include "run/render_threads.h"
 #include "run/scene_motion.h"
 #include "scene/scene_checks.h"
 #include "shading/image_cache.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <memory>
@@ -59,14 +59,14 @@ Film renderScriptFrame(SceneScript &script, const SceneInfo &info, int frame,
   stats.imageSeconds = secondsSince(t0);
 
   // The render threads, asleep since the last frame (or since start-up),
-  // woken now by an empty task: they are up by the time the build ends.
-  // Embree's build, parallel, woke them anyway; a small scene's kd-tree
-  // build is serial, and the second thread then joined the frame's first
-  // tiles 1-4 ms late in about half the runs (bench/README.md,
-  // "Throughput"). Not with one thread: TBB starts a worker for an
-  // enqueued task even then, and it would render beside the main thread.
+  // woken now: they are up by the time the build ends. Embree's build,
+  // parallel, woke them anyway; a small scene's kd-tree build is serial,
+  // and the second thread then joined the frame's first tiles 1-4 ms late
+  // in about half the runs (bench/README.md, "Throughput"). Not with one
+  // thread: TBB starts a worker for an enqueued task even then, and it
+  // would render beside the main thread.
   if (tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1)
-    tbb::this_task_arena::enqueue([] {});
+    wakeRenderThreads();
   std::unique_ptr<Accelerator> accel = makeAccelerator(backend, scene);
   stats.accel = accel->stats();
 

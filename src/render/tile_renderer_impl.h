@@ -455,6 +455,17 @@ void renderAovs(const Accel &accel, const Integ &integrator, const Scene &scene,
 
 namespace tile_detail {
 
+/// The calling thread's work arrays for integrator type Integ, one set
+/// for every pass of every frame. Not one per forEachTile (whose `sample`
+/// type differs by pass): its three copies of each integrator's, for a
+/// frame's passes and fixed sampling, were most of the thread-local block
+/// that every thread of the process, rendering or not, gets copied and
+/// zeroed when it starts.
+template <class Integ> TileWork<Integ> &threadTileWork() {
+  static thread_local TileWork<Integ> work;
+  return work;
+}
+
 /// Runs `sample(rect, work, counts)` on every 16 x 16 tile of the frame,
 /// in parallel (TBB), each thread with its own work arrays and ray counts;
 /// `sample` returns false for a tile it left alone. Progress counts the
@@ -469,7 +480,7 @@ void forEachTile(const FrameSettings &settings, tbb::combinable<RayCounts> &perT
   std::atomic<size_t> tilesDone{0};
   tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
     setFlushToZero();
-    static thread_local TileWork<Integ> work;
+    TileWork<Integ> &work = threadTileWork<Integ>();
     RayCounts &local = perThread.local();
     for (size_t tile = r.begin(); tile != r.end(); ++tile) {
       const TileRect rect(tile, tilesX, settings.width, settings.height);

@@ -9,8 +9,11 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <fstream>
 #include <thread>
 
+#include <elf.h>
 #include <sched.h>
 
 namespace lray {
@@ -81,6 +84,34 @@ TEST(RenderThreads, AWorkerIsMovedOnceAndLeftFreeToRunOnEveryCpu) {
   });
   ASSERT_TRUE(workerRan) << "no worker joined the loop in 10 s";
   EXPECT_TRUE(workerUnpinned) << "the worker's affinity is not the process's";
+}
+
+/// The size in memory of `path`'s thread-local block (its PT_TLS
+/// segment), or -1 where the file is no 64-bit ELF or has none.
+int64_t threadLocalBlockBytes(const char *path) {
+  std::ifstream in(path, std::ios::binary);
+  Elf64_Ehdr header{};
+  if (!in.read(reinterpret_cast<char *>(&header), sizeof header) ||
+      header.e_ident[EI_CLASS] != ELFCLASS64 || header.e_phentsize != sizeof(Elf64_Phdr))
+    return -1;
+  for (int i = 0; i < header.e_phnum; ++i) {
+    Elf64_Phdr segment{};
+    in.seekg(static_cast<std::streamoff>(header.e_phoff + i * sizeof segment));
+    if (!in.read(reinterpret_cast<char *>(&segment), sizeof segment)) return -1;
+    if (segment.p_type == PT_TLS) return static_cast<int64_t>(segment.p_memsz);
+  }
+  return -1;
+}
+
+// glibc copies and zeroes a program's thread-local block for every thread
+// it starts (TBB's workers, the script watchdog), rendering or not, on
+// the thread that starts it: 1.65 MB of it cost this machine's lray about
+// 0.7 ms of wall time per thread (bench/README.md, "Start-up"). Big
+// per-thread arrays belong on the heap or shared by their users.
+TEST(RenderThreads, LraysThreadLocalBlockStaysUnderOneMebibyte) {
+  const int64_t bytes = threadLocalBlockBytes(LRAY_BINARY);
+  ASSERT_GT(bytes, 0) << LRAY_BINARY << ": no thread-local block found";
+  EXPECT_LT(bytes, int64_t{1} << 20);
 }
 
 } // namespace

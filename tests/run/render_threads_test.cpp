@@ -105,8 +105,8 @@ int64_t threadLocalBlockBytes(const char *path) {
 
 // glibc copies and zeroes a program's thread-local block for every thread
 // it starts (TBB's workers, the script watchdog), rendering or not, on
-// the thread that starts it: 1.65 MB of it cost this machine's lray about
-// 0.7 ms of wall time per thread (bench/README.md, "Start-up"). Big
+// the thread that starts it: halving lray's, 1.65 to 0.82 MB, took 2-3 ms
+// off a 1x1 render's wall time (bench/README.md, "Start-up"). Big
 // per-thread arrays belong on the heap or shared by their users.
 TEST(RenderThreads, LraysThreadLocalBlockStaysUnderOneMebibyte) {
   const int64_t bytes = threadLocalBlockBytes(LRAY_BINARY);

@@ -33,6 +33,18 @@ TriangleCorners corners(const MeshData &mesh, uint32_t triangle) {
           toVec3(mesh.positions[idx[2]])};
 }
 
+/// Whether the ray starts outside `box` on some axis and does not move
+/// towards it along that axis: from t = 0 on (its tMin is not negative) it
+/// stays on that side, so it meets nothing inside. Exact (comparisons
+/// only); a NaN compares false and leaves the ray to the tests.
+[[gnu::always_inline]] inline bool movesAwayFrom(const Ray &ray, const Bounds3 &box) {
+  bool away = false;
+  if (!(ray.tMin >= 0)) return false;
+  for (int k = 0; k < 3; ++k)
+    away |= (ray.o[k] > box.hi[k] && ray.d[k] >= 0) | (ray.o[k] < box.lo[k] && ray.d[k] <= 0);
+  return away;
+}
+
 // Calls f(std::integral_constant<int, kz>) for the ray's dominant axis kz,
 // so the triangle test of a whole traversal is compiled for that axis.
 template <class F> [[gnu::always_inline]] inline bool withRayAxis(int kz, F &&f) {
@@ -245,8 +257,17 @@ template <bool AnyHit, KdRays Rays>
   Ray placed;
   if (inst.transform != kIdentity) placed = objectRayOf(inst, ray);
   const Ray &objectRay = inst.transform == kIdentity ? ray : placed;
-  const WatertightRay wray(objectRay);
   const MeshTree &mt = meshTrees_[inst.meshTree];
+  // A tree of one leaf (a floor's two triangles) has no walk to clip the
+  // ray to its box. A shadow ray that starts outside the box on an axis
+  // and does not move towards it along that axis cannot meet it (the
+  // walk's clip drops it too): a floor's own shadow rays, and those above
+  // it that pass through a cell it shares. (Not for the nearest hit: the
+  // camera rays that come down to a floor pay the check for nothing.)
+  if (AnyHit && !mt.motion && mt.tree.nodes().size() == 1 &&
+      movesAwayFrom(objectRay, mt.tree.bounds()))
+    return false;
+  const WatertightRay wray(objectRay);
   if (mt.motion)
     return mt.tree.traverseLeaves<AnyHit, Rays>(
         objectRay, tBest, [&](uint32_t offset, uint32_t count, double &tTri) {

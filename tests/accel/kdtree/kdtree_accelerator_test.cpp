@@ -363,6 +363,72 @@ TEST(KdTreeAccelerator, WatertightProbeThroughInstancesHasNoMisses) {
   EXPECT_EQ(misses, 0);
 }
 
+// A floor of two triangles is a tree of one leaf, tested without a walk
+// to clip the ray to its box; a shadow ray that starts outside the box on
+// an axis and does not move towards it is dropped before the test.
+TEST(KdTreeAccelerator, AFloorsShadowRaysAgreeWithBruteForce) {
+  auto floor = std::make_shared<MeshData>();
+  for (const Vec3 &p : {Vec3(-100, 0, -100), Vec3(-100, 0, 100), Vec3(100, 0, -100),
+                        Vec3(100, 0, 100)})
+    floor->positions.push_back(toVec3f(p));
+  for (uint32_t t : {0u, 1u, 2u, 2u, 1u, 3u}) floor->triangleIndices.push_back(t);
+  for (int t = 0; t < 2; ++t) {
+    MeshTriangle tri;
+    for (int k = 0; k < 3; ++k) tri.v[k] = floor->triangleIndices[3 * t + k];
+    floor->triangles.push_back(tri);
+  }
+  Scene scene;
+  scene.entities.push_back(meshEntity(floor, Transform::identity()));
+  scene.entities.push_back(
+      meshEntity(floor, Transform::translate({0, 4, 0}) * Transform::rotate({1, 0, 1}, 25)));
+  // Enough small spheres over it for the shadow rays to go in packets.
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 80; ++j)
+      scene.entities.push_back(
+          shape(ShapeKind::Sphere, Transform::translate({0.6 * i - 24, 1 + 0.02 * j, 0.6 * j - 24}) *
+                                       Transform::scale(0.1, 0.1, 0.1)));
+  scene.textures.emplace_back();
+  scene.pigments.emplace_back();
+  KdTreeAccelerator accel(scene);
+  ASSERT_TRUE(accel.usesPackets());
+
+  Rng rng(34);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1200; ++i) {
+    Vec3 o = rng.inBox({-30, -3, -30}, {30, 8, 30});
+    // On the floor, a hair above or below it, or anywhere.
+    const double heights[] = {0, 1e-12, -1e-12, 0x1p-1074, o.y};
+    o.y = heights[i % 5];
+    Vec3 d = rng.direction() * rng.uniform(0.5, 40);
+    if (i % 7 == 0) d.y = 0; // along the floor
+    if (i % 11 == 0) d = {0, (i % 2 ? 1 : -1) * rng.uniform(1, 9), 0};
+    rays.push_back({o, d, 0, 1});
+  }
+  std::vector<uint8_t> coherent(rays.size());
+  accel.occludedCoherent(rays.data(), rays.size(), coherent.data(), nullptr);
+  size_t blocked = 0, selfHitsDropped = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray &ray = rays[i];
+    // A ray that starts off the flat floor and does not move towards it is
+    // not blocked by it, though the triangle test alone finds it at t of
+    // 1e-15 from a denormal height; brute force is asked past t = 1e-9.
+    const bool leaves = (ray.o.y > 0 && ray.d.y >= 0) || (ray.o.y < 0 && ray.d.y <= 0);
+    Ray late = ray;
+    late.tMin = 1e-9;
+    Hit hit;
+    const bool expected = bruteForce(scene, leaves ? late : ray, hit);
+    if (leaves && !expected && bruteForce(scene, ray, hit) && hit.entity == 0) ++selfHitsDropped;
+    EXPECT_EQ(accel.occluded(ray), expected) << "ray " << i;
+    EXPECT_EQ(coherent[i] != 0, expected) << "ray " << i;
+    blocked += expected;
+  }
+  // Both answers are common, and the triangle test's own self-hits are
+  // among the rays.
+  EXPECT_GT(blocked, rays.size() / 5);
+  EXPECT_LT(blocked, rays.size() * 4 / 5);
+  EXPECT_GT(selfHitsDropped, 0u);
+}
+
 TEST(KdTreeAccelerator, EmptySceneMissesEverything) {
   Scene scene;
   KdTreeAccelerator accel(scene);

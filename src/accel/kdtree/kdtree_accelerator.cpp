@@ -38,8 +38,8 @@ TriangleCorners corners(const MeshData &mesh, uint32_t triangle) {
 /// stays on that side, so it meets nothing inside. Exact (comparisons
 /// only); a NaN compares false and leaves the ray to the tests.
 [[gnu::always_inline]] inline bool movesAwayFrom(const Ray &ray, const Bounds3 &box) {
-  bool away = false;
   if (!(ray.tMin >= 0)) return false;
+  bool away = false;
   for (int k = 0; k < 3; ++k)
     away |= (ray.o[k] > box.hi[k] && ray.d[k] >= 0) | (ray.o[k] < box.lo[k] && ray.d[k] <= 0);
   return away;

@@ -7,6 +7,7 @@
 #include "math/spawn.h"
 #include "hit_expect.h"
 #include "accel/kdtree/kdtree_test_util.h"
+#include "shading/quad_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -367,26 +368,18 @@ TEST(KdTreeAccelerator, WatertightProbeThroughInstancesHasNoMisses) {
 // to clip the ray to its box; a shadow ray that starts outside the box on
 // an axis and does not move towards it is dropped before the test.
 TEST(KdTreeAccelerator, AFloorsShadowRaysAgreeWithBruteForce) {
-  auto floor = std::make_shared<MeshData>();
-  for (const Vec3 &p : {Vec3(-100, 0, -100), Vec3(-100, 0, 100), Vec3(100, 0, -100),
-                        Vec3(100, 0, 100)})
-    floor->positions.push_back(toVec3f(p));
-  for (uint32_t t : {0u, 1u, 2u, 2u, 1u, 3u}) floor->triangleIndices.push_back(t);
-  for (int t = 0; t < 2; ++t) {
-    MeshTriangle tri;
-    for (int k = 0; k < 3; ++k) tri.v[k] = floor->triangleIndices[3 * t + k];
-    floor->triangles.push_back(tri);
-  }
   Scene scene;
-  scene.entities.push_back(meshEntity(floor, Transform::identity()));
-  scene.entities.push_back(
-      meshEntity(floor, Transform::translate({0, 4, 0}) * Transform::rotate({1, 0, 1}, 25)));
+  const std::array<Vec3f, 4> floor{Vec3f(-100, 0, -100), Vec3f(-100, 0, 100),
+                                   Vec3f(100, 0, 100), Vec3f(100, 0, -100)};
+  testing::addQuad(scene, floor, 0);
+  testing::addQuad(scene, floor, 0,
+                   Transform::translate({0, 4, 0}) * Transform::rotate({1, 0, 1}, 25));
   // Enough small spheres over it for the shadow rays to go in packets.
   for (int i = 0; i < 80; ++i)
     for (int j = 0; j < 80; ++j)
-      scene.entities.push_back(
-          shape(ShapeKind::Sphere, Transform::translate({0.6 * i - 24, 1 + 0.02 * j, 0.6 * j - 24}) *
-                                       Transform::scale(0.1, 0.1, 0.1)));
+      scene.entities.push_back(shape(
+          ShapeKind::Sphere, Transform::translate({0.6 * i - 24, 1 + 0.02 * j, 0.6 * j - 24}) *
+                                 Transform::scale(0.1, 0.1, 0.1)));
   scene.textures.emplace_back();
   scene.pigments.emplace_back();
   KdTreeAccelerator accel(scene);

@@ -16,6 +16,7 @@
 
 #include "math/color.h"
 #include "render/sample_buffer.h"
+#include "util/zeroed_vector.h"
 
 #include <algorithm>
 #include <bit>
@@ -39,18 +40,33 @@ public:
 
   /// Starts over for a tile of `width` x `height` pixels, with cells
   /// 2^-depth of a pixel wide at the finest (1 <= depth <= 8; the tile's
-  /// lattice takes 12.5 bytes a point: 3.3 MB for 16 x 16 pixels at 5).
+  /// lattice takes 13 bytes a point and a third more for the coarser levels:
+  /// 4.6 MB for 16 x 16 pixels at 5, mapped only where used).
   void reset(int depth, int width, int height) {
     for (uint32_t k : touched_) known_[k] = kUnknown;
     touched_.clear();
+    depth_ = depth;
     cells_ = 1u << depth;
-    side_ = static_cast<uint32_t>(width) * cells_ + 1;
-    const size_t points = static_cast<size_t>(side_) * (static_cast<uint32_t>(height) * cells_ + 1);
+    // The points by level: level L's grid holds every point whose
+    // coordinates are multiples of 2^(depth - L), and each point lives in
+    // the first level that holds it. A cell cut once or twice (most are)
+    // then keeps its points in the small grids, a few pages a thread,
+    // not one or two pages per row of the finest grid: a page mapped is a
+    // fault and the zeroing of 4 KB (about 1.5 us on bench/README.md's
+    // machine), and a small frame's lattice pass maps hundreds.
+    size_t points = 0;
+    for (int level = 0; level <= depth; ++level) {
+      const uint32_t n = 1u << level;
+      levelStart_[level] = static_cast<uint32_t>(points);
+      levelSide_[level] = static_cast<uint32_t>(width) * n + 1;
+      points += static_cast<size_t>(levelSide_[level]) * (static_cast<uint32_t>(height) * n + 1);
+    }
     if (known_.size() < points) {
-      // Left uninitialised: a point's value is read only once it is known,
-      // so a tile's pages are touched only where its pixels are refined.
+      // Left uninitialised, and the states zero from calloc: a point's
+      // value is read only once it is known, so pages are mapped only
+      // where pixels are refined.
       values_.reset(new Value[points]);
-      known_.assign(points, kUnknown);
+      known_ = ZeroedVector<uint8_t>(points);
     }
     open_.clear();
     sums_.clear();
@@ -82,8 +98,15 @@ public:
   uint32_t pixels() const { return static_cast<uint32_t>(sums_.size()); }
   /// The width of the finest cells, in pixels.
   double step() const { return 1.0 / cells_; }
-  /// A point's index in the tile's lattice, row by row.
-  uint32_t slot(uint32_t i, uint32_t j) const { return j * side_ + i; }
+  /// A point's index in the tile's lattice: in the coarsest level's grid
+  /// that holds it (reset), row by row.
+  uint32_t slot(uint32_t i, uint32_t j) const {
+    // Both coordinates are multiples of 2^shift; shift <= depth_ (cells_
+    // is 2^depth_).
+    const int shift = std::countr_zero(i | j | cells_);
+    const int level = depth_ - shift;
+    return levelStart_[level] + (j >> shift) * levelSide_[level] + (i >> shift);
+  }
 
   /// Appends to `out` the points the open cells' corners need, each once.
   void pending(std::vector<Point> &out) {
@@ -143,10 +166,14 @@ private:
     used_[p * pixelWords_ + bit / 64] |= uint64_t{1} << (bit % 64);
   }
 
+  int depth_ = 1;
   uint32_t cells_ = 2; ///< finest cells along a pixel's side
-  uint32_t side_ = 3;  ///< lattice points along the tile's width
-  std::unique_ptr<Value[]> values_; ///< the tile's points, row by row
-  std::vector<uint8_t> known_;   ///< the same points' states
+  static constexpr int kMaxDepth = 8;
+  /// Per level (reset), where its grid starts and its points along the
+  /// tile's width.
+  uint32_t levelStart_[kMaxDepth + 1] = {}, levelSide_[kMaxDepth + 1] = {};
+  std::unique_ptr<Value[]> values_; ///< the tile's points (slot)
+  ZeroedVector<uint8_t> known_;  ///< the same points' states
   std::vector<uint32_t> touched_; ///< the points whose state is set
   std::vector<Cell> open_, next_;
   std::vector<Color> sums_;

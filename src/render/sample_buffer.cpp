@@ -392,6 +392,46 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
   return activeList_.size();
 }
 
+namespace {
+
+/// One row's share of the sampling report (summarizeSampling): its pixels'
+/// samples, the most in one, and the error figures of those with two or
+/// more.
+struct SamplingRow {
+  double errorSum = 0, errorMax = 0;
+  size_t withError = 0;
+  uint64_t samples = 0;
+  uint32_t most = 0;
+  void add(uint32_t n, float error) {
+    samples += n;
+    most = std::max(most, n);
+    if (n < 2) return;
+    errorSum += error;
+    errorMax = std::max(errorMax, double(error));
+    ++withError;
+  }
+};
+
+/// The rows' figures summed in order into `r`: the same report whatever
+/// the threads.
+void reportRows(const std::vector<SamplingRow> &rows, SamplingReport &r) {
+  SamplingRow all;
+  for (const SamplingRow &row : rows) {
+    all.errorSum += row.errorSum;
+    all.errorMax = std::max(all.errorMax, row.errorMax);
+    all.withError += row.withError;
+    all.samples += row.samples;
+    all.most = std::max(all.most, row.most);
+  }
+  r.samples = all.samples;
+  r.maxPixelSamples = all.most;
+  r.hasError = all.withError > 0;
+  r.meanError = all.withError ? all.errorSum / static_cast<double>(all.withError) : 0;
+  r.maxError = all.errorMax;
+}
+
+} // namespace
+
 void SampleBuffer::writeTo(Film &film) const {
   // By rows in parallel: the film's pages are mapped as they are written.
   tbb::parallel_for(0, height_, [&](int y) {
@@ -411,22 +451,32 @@ void SampleBuffer::moveTo(Film &film) && {
   // written) holds its mean and 0 estimate already, one without samples 0
   // (the same values writeTo gives), so only pixels of two samples or
   // more are written, and only in pages their samples mapped.
+  // The report is summed here too (as summarizeSampling would from the
+  // film): reading a refined pixel's estimate back would map its pages.
   static_assert(Film::kEstimateFloats <= kSquareFloats, "an estimate fits in a pixel's squares");
+  std::vector<SamplingRow> rows(static_cast<size_t>(height_));
   tbb::parallel_for(0, height_, [&](int y) {
     setFlushToZero();
+    SamplingRow &row = rows[static_cast<size_t>(y)];
     for (int x = 0; x < width_; ++x) {
       const size_t i = index(x, y);
       const uint32_t n = count_[i];
       assert(n >= 2 || n == 0 || centreOnly_[i]);
-      if (n < 2) continue;
+      if (n < 2) {
+        row.add(n, 0.f);
+        continue;
+      }
       const Color m = mean(i);
       // A refined pixel's squares were never written: its pages stay
       // unmapped, and its estimate is their 0. (variance reads the sums.)
+      float error = 0;
       if (!refined_[i]) {
         float *estimate = &squares_[i * kSquareFloats];
         Film::writeEstimate(estimate, m, variance(i), n, samples_);
         std::fill(estimate + Film::kEstimateFloats, estimate + kSquareFloats, 0.f);
+        error = estimate[3];
       }
+      row.add(n, error);
       float *sum = &sums_[i * 3];
       sum[0] = static_cast<float>(m.r);
       sum[1] = static_cast<float>(m.g);
@@ -434,47 +484,19 @@ void SampleBuffer::moveTo(Film &film) && {
     }
   });
   film.adopt(std::move(sums_), std::move(count_), std::move(squares_), kSquareFloats);
-  summarizeSampling(film);
+  reportRows(rows, film.report);
 }
 
 void summarizeSampling(Film &film) {
-  // Row by row in parallel, then the rows' figures summed in order: the
-  // same report whatever the threads.
-  struct Row {
-    double errorSum = 0, errorMax = 0;
-    size_t withError = 0;
-    uint64_t samples = 0;
-    uint32_t most = 0;
-  };
-  std::vector<Row> rows(static_cast<size_t>(film.height()));
+  std::vector<SamplingRow> rows(static_cast<size_t>(film.height()));
   tbb::parallel_for(0, film.height(), [&](int y) {
-    Row &row = rows[static_cast<size_t>(y)];
+    SamplingRow &row = rows[static_cast<size_t>(y)];
     for (int x = 0; x < film.width(); ++x) {
       const uint32_t n = film.sampleCount(x, y);
-      row.samples += n;
-      row.most = std::max(row.most, n);
-      if (n >= 2) {
-        const double e = film.error(x, y);
-        row.errorSum += e;
-        row.errorMax = std::max(row.errorMax, e);
-        ++row.withError;
-      }
+      row.add(n, n >= 2 ? film.error(x, y) : 0.f);
     }
   });
-  Row all;
-  for (const Row &row : rows) {
-    all.errorSum += row.errorSum;
-    all.errorMax = std::max(all.errorMax, row.errorMax);
-    all.withError += row.withError;
-    all.samples += row.samples;
-    all.most = std::max(all.most, row.most);
-  }
-  SamplingReport &r = film.report;
-  r.samples = all.samples;
-  r.maxPixelSamples = all.most;
-  r.hasError = all.withError > 0;
-  r.meanError = all.withError ? all.errorSum / static_cast<double>(all.withError) : 0;
-  r.maxError = all.errorMax;
+  reportRows(rows, film.report);
 }
 
 } // namespace lray

@@ -740,5 +740,46 @@ TEST(SampleBuffer, MovedToAFilmAsWrittenToIt) {
   EXPECT_EQ(moved.report.maxPixelSamples, copied.report.maxPixelSamples);
 }
 
+// moveTo sums the report itself, without reading the refined pixels'
+// estimates back (their pages stay unmapped): the same report as the film
+// it leaves gives summarizeSampling, refined pixels (estimate 0) and all.
+TEST(SampleBuffer, MovingReportsWhatTheFilmHolds) {
+  const int w = 11, h = 6;
+  SampleBuffer buffer(w, h, SampleSet::Stratified, 0, 0, w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = buffer.index(x, y);
+      const double v = 0.07 * x + 0.05 * y;
+      switch ((x + 2 * y) % 4) {
+      case 0:
+        buffer.setCentre(i, {v, v / 2, 0.9});
+        break;
+      case 1:
+        buffer.setCentre(i, {v, 0.2, 0.4});
+        buffer.setRefined(i, {v, 0.3, 0.5}, 5 + x);
+        break;
+      case 2: {
+        const uint32_t n = 3 + y;
+        buffer.add(i, Color(v, 2 * v, 0.5) * n, Color(v * v + 0.02, 4 * v * v, 0.3) * n, n);
+        break;
+      }
+      default:
+        break; // no samples
+      }
+    }
+  Film moved(w, h);
+  std::move(buffer).moveTo(moved);
+  const SamplingReport report = moved.report;
+  summarizeSampling(moved);
+  EXPECT_EQ(report.samples, moved.report.samples);
+  EXPECT_EQ(report.maxPixelSamples, moved.report.maxPixelSamples);
+  EXPECT_EQ(report.hasError, moved.report.hasError);
+  EXPECT_EQ(report.meanError, moved.report.meanError);
+  EXPECT_EQ(report.maxError, moved.report.maxError);
+  EXPECT_TRUE(report.hasError);
+  EXPECT_GT(report.meanError, 0);
+  EXPECT_EQ(moved.error(1, 0), 0.f); // a refined pixel
+}
+
 } // namespace
 } // namespace lray

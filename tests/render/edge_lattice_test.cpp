@@ -18,6 +18,7 @@
 #include <functional>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 namespace lray {
 namespace {
@@ -46,6 +47,39 @@ TEST(PixelLattice, AFlatPixelTakesItsFourCornersAndKeepsItsColour) {
   EXPECT_NEAR(c.r, 0.3, 1e-7); // kept in float
   EXPECT_NEAR(c.g, 0.5, 1e-7);
   EXPECT_NEAR(c.b, 0.7, 1e-7);
+}
+
+// Every point of a tile's lattice has a slot of its own, inside the
+// storage, in a tile of any size and depth; the points of cells cut at
+// most twice (coordinates multiples of a quarter pixel) lie in the first
+// slots, so that a thread's pages hold them together.
+TEST(PixelLattice, EveryPointHasItsOwnSlotAndCoarsePointsComeFirst) {
+  for (const auto &[depth, width, height] :
+       {std::tuple{5, 16, 16}, std::tuple{3, 7, 11}, std::tuple{1, 16, 2}, std::tuple{8, 3, 1}}) {
+    PixelLattice lattice;
+    lattice.reset(depth, width, height);
+    const uint32_t cells = 1u << depth;
+    const uint32_t side = width * cells + 1, rows = height * cells + 1;
+    std::vector<uint8_t> seen;
+    uint32_t coarsest = 0, finest = 0;
+    for (uint32_t j = 0; j < rows; ++j)
+      for (uint32_t i = 0; i < side; ++i) {
+        const uint32_t s = lattice.slot(i, j);
+        if (s >= seen.size()) seen.resize(s + 1);
+        EXPECT_EQ(seen[s]++, 0) << i << "," << j << " depth " << depth;
+        const uint32_t quarter = cells >= 4 ? cells / 4 : 1;
+        if (i % quarter == 0 && j % quarter == 0)
+          coarsest = std::max(coarsest, s);
+        else
+          finest = std::max(finest, s);
+      }
+    // About a third more slots than points (the coarser grids), no more.
+    EXPECT_LE(seen.size(), size_t(side) * rows * 7 / 5) << depth;
+    // The quarter-pixel points fit in the grids of levels 0 to 2.
+    size_t small = 0;
+    for (uint32_t n = 1; n <= 4 && n <= cells; n *= 2) small += (width * n + 1) * (height * n + 1);
+    EXPECT_LT(coarsest, small) << depth;
+  }
 }
 
 TEST(PixelLattice, AStraightEdgeIsCutAlongItsLengthOnly) {

@@ -83,8 +83,9 @@ struct FrameSeeds {
 }
 
 /// Work arrays of one thread: the camera rays of one sample index over a
-/// tile's pixels, and each pixel's sums over the samples it takes.
-template <class Integ> struct TileWork {
+/// tile's pixels, and each pixel's sums over the samples it takes. The
+/// same for every integrator and backend.
+struct TileWork {
   std::array<Ray, kTilePixels> rays;
   std::array<Hit, kTilePixels> hits;
   std::array<uint8_t, kTilePixels> found;
@@ -107,14 +108,20 @@ template <class Integ> struct TileWork {
   std::array<uint32_t, kTilePixels + kOwenLanes> shuffle{}, sx{}, sy{};
   std::array<uint32_t, kTilePixels> stratumOffset;
   std::array<int, kTilePixels> x, y; ///< the tile pixel's image coordinates
-  static_assert(kTilePixels <= Integ::kMaxTileRays);
 };
+
+/// The calling thread's sparse centres, one for every backend and
+/// integrator (as threadTileWork, below).
+inline SparseCentres &threadSparseCentres() {
+  static thread_local SparseCentres sparse;
+  return sparse;
+}
 
 /// Traces the camera rays work.rays[0, n) and shades them (their samplers
 /// work.samplers) into work.colors, a colour that is not finite counted
 /// (counts.nonFinite) and taken as black.
 template <class Accel, class Integ>
-void traceCameraRays(const Accel &accel, const Integ &integrator, TileWork<Integ> &work,
+void traceCameraRays(const Accel &accel, const Integ &integrator, TileWork &work,
                      size_t n, RayCounts &counts) {
   accel.intersectCoherent(work.rays.data(), n, work.hits.data(), work.found.data());
   counts.camera += n;
@@ -167,7 +174,7 @@ inline int adaptivePasses(uint32_t minSamples, uint32_t maxSamples) {
 template <class Accel, class Integ>
 void sampleCentres(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                    const FrameSettings &settings, const tile_detail::TileRect &rect,
-                   bool spreadLight, tile_detail::TileWork<Integ> &work, RayCounts &counts) {
+                   bool spreadLight, tile_detail::TileWork &work, RayCounts &counts) {
   const tile_detail::FrameSeeds seeds(settings.stream());
   const bool path = settings.integrator == IntegratorKind::Path;
   const bool pinhole = !camera.hasLens() && !camera.timed();
@@ -220,7 +227,7 @@ template <class Accel, class Integ>
 void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect, uint32_t end,
                 bool spreadLight, bool pairedStrata, bool centres,
-                tile_detail::TileWork<Integ> &work, RayCounts &counts) {
+                tile_detail::TileWork &work, RayCounts &counts) {
   if (centres) {
     // Pixel centres are sample 0 alone (end == 1; pairedStrata: 0 >> 1 is 0).
     sampleCentres(accel, integrator, camera, settings, rect, spreadLight, work, counts);
@@ -326,7 +333,7 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
 template <class Accel, class Integ>
 void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                 const FrameSettings &settings, const tile_detail::TileRect &rect,
-                SampleBuffer &buffer, tile_detail::TileWork<Integ> &work, RayCounts &counts) {
+                SampleBuffer &buffer, tile_detail::TileWork &work, RayCounts &counts) {
   static thread_local PixelLattice lattice;
   static thread_local std::vector<PixelLattice::Point> points;
   const uint32_t cells = 1u << settings.adaptiveSettings.latticeDepth;
@@ -373,9 +380,9 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
 template <class Accel, class Integ>
 void sparseCentreTile(const Accel &accel, const Integ &integrator, const CameraRays &camera,
                       const FrameSettings &settings, const tile_detail::TileRect &rect,
-                      SampleBuffer &buffer, tile_detail::TileWork<Integ> &work,
+                      SampleBuffer &buffer, tile_detail::TileWork &work,
                       RayCounts &counts) {
-  static thread_local SparseCentres sparse;
+  SparseCentres &sparse = tile_detail::threadSparseCentres();
   static thread_local std::vector<SparseCentres::Point> points;
   const uint64_t key = Sampler::frameKey(settings.stream());
   sparse.reset(rect.width(), rect.y1 - rect.y0, rect.x1 < settings.width ? 1 : 0,
@@ -455,14 +462,13 @@ void renderAovs(const Accel &accel, const Integ &integrator, const Scene &scene,
 
 namespace tile_detail {
 
-/// The calling thread's work arrays for integrator type Integ, one set
-/// for every pass of every frame. Not one per forEachTile (whose `sample`
-/// type differs by pass): its three copies of each integrator's, for a
-/// frame's passes and fixed sampling, were most of the thread-local block
-/// that every thread of the process, rendering or not, gets copied and
-/// zeroed when it starts.
-template <class Integ> TileWork<Integ> &threadTileWork() {
-  static thread_local TileWork<Integ> work;
+/// The calling thread's work arrays, one set for every pass of every frame,
+/// whatever the integrator and backend: every thread of the process,
+/// rendering or not, gets the thread-local block copied and zeroed when it
+/// starts (a page fault and 4 KB zeroed per page, on the thread that starts
+/// it), and a copy per integrator type and backend was most of it.
+inline TileWork &threadTileWork() {
+  static thread_local TileWork work;
   return work;
 }
 
@@ -480,7 +486,8 @@ void forEachTile(const FrameSettings &settings, tbb::combinable<RayCounts> &perT
   std::atomic<size_t> tilesDone{0};
   tbb::parallel_for(Tiles(0, tileCount, 1), [&](const Tiles &r) {
     setFlushToZero();
-    TileWork<Integ> &work = threadTileWork<Integ>();
+    static_assert(kTilePixels <= Integ::kMaxTileRays);
+    TileWork &work = threadTileWork();
     RayCounts &local = perThread.local();
     for (size_t tile = r.begin(); tile != r.end(); ++tile) {
       const TileRect rect(tile, tilesX, settings.width, settings.height);
@@ -536,7 +543,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     const uint32_t total = static_cast<uint32_t>(n) * static_cast<uint32_t>(n);
     forEachTile<Integ>(
         settings, perThread, progress,
-        [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+        [&](const TileRect &rect, TileWork &work, RayCounts &local) {
           if (!meets(rect, crop)) return false;
           const size_t count = rect.pixels();
           std::fill_n(work.first.begin(), count, 0u);
@@ -634,7 +641,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
   for (int pass = 0;; ++pass) {
     forEachTile<Integ>(
         settings, perThread, progress,
-        [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+        [&](const TileRect &rect, TileWork &work, RayCounts &local) {
           if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1)) return false;
           // The first pass always completes: every pixel needs a value.
           if (pass > 0 && haltsTile()) return false;
@@ -680,7 +687,7 @@ void renderTiles(const Accel &accel, const Scene &scene, const ImageCache &image
     if (lattice) {
       forEachTile<Integ>(
           settings, perThread, progress,
-          [&](const TileRect &rect, TileWork<Integ> &work, RayCounts &local) {
+          [&](const TileRect &rect, TileWork &work, RayCounts &local) {
             if (!buffer.anyActive(rect.x0, rect.y0, rect.x1, rect.y1) || haltsTile())
               return false;
             refineTile(accel, centreIntegrator, camera, settings, rect, buffer, work, local);

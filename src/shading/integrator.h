@@ -17,6 +17,7 @@
 #include "shading/image_cache.h"
 #include "shading/integrator_options.h"
 #include "shading/light_lanes.h"
+#include "shading/light_scratch.h"
 #include "shading/material_table.h"
 #include "shading/pigment.h"
 #include "shading/ray_counts.h"
@@ -71,8 +72,7 @@ public:
   Color shadeHit(const Ray &ray, const Hit &hit, Sampler &sampler, RayCounts &counts) const;
 
   /// Most camera rays of one shadeTile call.
-  static constexpr size_t kMaxTileRays = 256;
-  static_assert(LightLanes::kMax == kMaxTileRays);
+  static constexpr size_t kMaxTileRays = kShadeTileRays;
 
   /// shadeHit for the camera rays of a tile at once: out[i] is the colour
   /// of ray i (the background where found[i] is 0), with the same values,
@@ -100,12 +100,7 @@ public:
 
   /// What shading needs of a hit before any ray is traced (also a vertex
   /// of the path tracer, path_integrator.h).
-  struct Surface {
-    const Material *m = nullptr;
-    bool entering = false; ///< the ray arrives from the geometric normal's side
-    Vec3 n, dir, v;        ///< N (facing the ray), normalize(ray.d), V
-    Color pigment;
-  };
+  using Surface = HitSurface;
   /// Fills `s` in place (a Surface returned by value and then copied into
   /// shadeTile's array cost a store-forwarding stall per field).
   void surfaceAt(const Ray &ray, const Hit &hit, Surface &s) const;
@@ -124,18 +119,11 @@ public:
 private:
   /// Where a light sample lies as seen from a hit: the unit direction to
   /// it, N.L and the light it brings.
-  struct LightDir {
-    Vec3 l;
-    double nl;
-    Color color;
-  };
+  using LightDir = PendingLight::Dir;
   /// The light loop's working arrays, per shadow ray of one light sample
   /// (`ray` indexes the points being lit).
   struct LightScratch {
-    struct Pending {
-      uint32_t ray;
-      LightDir dir;
-    };
+    using Pending = PendingLight;
     Pending *pending;
     Ray *shadowRays;
     uint8_t *blocked;
@@ -150,10 +138,6 @@ private:
     /// With lanes: where their rounds' shadow rays wait to be traced.
     ShadowBatch *batch = nullptr;
   };
-  /// directLight's rounds of an area light taken together (a batch).
-  static constexpr size_t kPointRounds = 64;
-  struct PointScratch;
-  struct TileScratch;
 
   Color traceRay(const Ray &ray, int depth, double weight, Sampler &sampler,
                  RayCounts &counts) const;

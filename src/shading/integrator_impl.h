@@ -388,7 +388,7 @@ Color Integrator<Accel>::directLight(const Hit &hit, const Surface &s, Sampler &
                                      RayCounts &counts) const {
   if (!s.m->lit) return Color();
   // Room for kPointRounds of an area light's rounds at once (addDirectLight).
-  static thread_local PointScratch scratch;
+  PointLightScratch &scratch = threadPointLightScratch();
   Color sum;
   SpawnOrigins origins;
   addDirectLight(&hit, &s, nullptr, &sampler, 1, false,
@@ -414,28 +414,6 @@ void Integrator<Accel>::forEachLightSample(const Vec3 &p, Sampler &sampler, Visi
   }
 }
 
-template <class Accel> struct Integrator<Accel>::PointScratch {
-  std::array<typename LightScratch::Pending, kPointRounds> pending;
-  std::array<Ray, kPointRounds> shadowRays;
-  std::array<uint8_t, kPointRounds> blocked;
-  std::array<Vec3, kPointRounds> targets;
-};
-
-template <class Accel> struct Integrator<Accel>::TileScratch {
-  std::array<Surface, kMaxTileRays> surface;
-  std::array<Color, kMaxTileRays> lightSum;
-  std::array<typename LightScratch::Pending, kMaxTileRays> pending;
-  std::array<Ray, kMaxTileRays> shadowRays;
-  std::array<uint8_t, kMaxTileRays> blocked;
-  std::array<SpawnOrigins, kMaxTileRays> origins;
-  std::array<Vec3, kMaxTileRays> targets;
-  LightLanes lanes;
-  // On the heap: a thread's static TLS comes out of its stack, and the
-  // batch is most of a megabyte. Not zeroed (new, not make_unique): a
-  // light of few cells touches only the first pages of its arrays.
-  std::unique_ptr<ShadowBatch> batch{new ShadowBatch};
-};
-
 template <class Accel>
 void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_t *found,
                                   Sampler *samplers, size_t count, Color *out,
@@ -444,7 +422,7 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
   // Per-thread scratch: arrays of this size constructed on every call
   // cost the gallery scenes a measurable share of their render time
   // (bench/HISTORY.md, figures from source comments).
-  static thread_local TileScratch scratch;
+  TileLightScratch &scratch = threadTileLightScratch();
   auto &surface = scratch.surface;
   auto &lightSum = scratch.lightSum; // the direct light, per ray
   for (size_t i = 0; i < count; ++i) {

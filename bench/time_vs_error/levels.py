@@ -22,12 +22,9 @@ LRay's render time alone was closest to a third of POV-Ray's
 """
 
 import argparse
-import json
 import os
-import re
 import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 
@@ -39,45 +36,6 @@ DEFAULT_PAIRS = [
     "pigments|+A0.3 +AM2 +R3|--noise-threshold 0.07 " + SPARSE,
     "ring|+A0.1 +AM2 +R3|--noise-threshold 0.035 " + SPARSE,
 ]
-
-
-def pov_command(scene, opts, a):
-    cmd = ["povray", "+I%s.pov" % scene, "+Olevels.png", "+W%d" % a.width, "+H%d" % a.height, "+FN",
-           "-D", "-V", "+WT%d" % a.threads] + opts
-    info = tve.SCENES[scene]
-    if "frame" in info:
-        last, f = info["frames"] - 1, info["frame"]
-        cmd += ["+KFI0", "+KFF%d" % last, "+KI0", "+KF1", "+SF%d" % f, "+EF%d" % f]
-    return cmd
-
-
-def pov_run(scene, opts, a, folder):
-    """Renders once in `folder`: (trace seconds, the image's path)."""
-    for old in os.listdir(folder):
-        if old.startswith("levels") and old.endswith(".png"):
-            os.remove(os.path.join(folder, old))
-    _, log = tve.run_checked(pov_command(scene, opts, a), cwd=folder)
-    times = re.findall(r"Trace Time:.*\(\s*([\d.]+) seconds\)", log)
-    if not times:
-        raise tve.BenchError("povray printed no trace time:\n%s" % log[-2000:])
-    image = [p for p in os.listdir(folder) if p.startswith("levels") and p.endswith(".png")][0]
-    return sum(float(t) for t in times), os.path.join(folder, image)
-
-
-def lray_run(scene, opts, backend, a, folder):
-    """Renders once: (--stats render seconds, the image's path)."""
-    out = os.path.join(folder, "lray-out")
-    shutil.rmtree(out, ignore_errors=True)
-    stats = os.path.join(folder, "stats.json")
-    cmd = [a.lray, os.path.join(tve.SCENE_DIR, scene + ".lua"), out, "--backend", backend,
-           "-t", str(a.threads), "-w", str(a.width), "-H", str(a.height), "--linear", "-q",
-           "--stats", stats] + opts
-    if "frame" in tve.SCENES[scene]:
-        cmd += ["--frames", str(tve.SCENES[scene]["frame"])]
-    tve.run_checked(cmd)
-    with open(stats) as f:
-        seconds = sum(fr["times"]["render"] for fr in json.load(f)["frames"])
-    return seconds, os.path.join(out, os.listdir(out)[0])
 
 
 def quartiles(v):
@@ -102,37 +60,39 @@ def main():
     a = p.parse_args()
     if not shutil.which("povray"):
         sys.exit("levels: povray is not on PATH (scripts/setup --bench installs it)")
-    folder = tempfile.mkdtemp(prefix="lray-levels-")
-    for name in os.listdir(tve.SCENE_DIR):
-        if not name.endswith(".lua"):
-            shutil.copy(os.path.join(tve.SCENE_DIR, name), folder)
-    print("%dx%d, %d threads, %d alternating runs each; ms: median (quartiles)"
-          % (a.width, a.height, a.threads, a.runs))
-    for spec in a.pair or DEFAULT_PAIRS:
-        scene, pov_opts, lray_opts = (s.strip() for s in spec.split("|"))
+    pairs = [tuple(part.strip() for part in spec.split("|")) for spec in a.pair or DEFAULT_PAIRS]
+    for scene, _, _ in pairs:
         if scene not in tve.SCENES:
             sys.exit("levels: no bench scene %r" % scene)
-        if tve.SCENES[scene].get("mesh"):
-            tve.write_torus_mesh2(os.path.join(folder, "mesh200k_mesh.inc"))
+    # run.py's runner renders and times each run (its renders and POV-Ray's
+    # working folder in a temporary --out).
+    a.out = tempfile.mkdtemp(prefix="lray-levels-")
+    a.scenes = sorted({scene for scene, _, _ in pairs})
+    a.no_pov = False
+    runner = tve.Runner(a)
+    runner.prepare_pov()
+    print("%dx%d, %d threads, %d alternating runs each; ms: median (quartiles)"
+          % (a.width, a.height, a.threads, a.runs))
+    for scene, pov_opts, lray_opts in pairs:
         pov_opts, lray_opts = pov_opts.split(), lray_opts.split()
-        pov_times, lray_times = [], {b: [] for b in a.backends}
-        images = {}
-        for _ in range(a.runs):
-            seconds, images["povray"] = pov_run(scene, pov_opts, a, folder)
-            pov_times.append(seconds)
+        # The first run of each gives its image; the timers run it again.
+        _, seconds, pov_image, _, pov_timer = runner.pov_render(scene, "levels", pov_opts)
+        pov_times = [seconds]
+        lray_times, lray_images, lray_timers = {}, {}, {}
+        for b in a.backends:
+            _, seconds, lray_images[b], _, lray_timers[b] = runner.lray_render(
+                scene, b, "levels-" + b, lray_opts)
+            lray_times[b] = [seconds]
+        for _ in range(a.runs - 1):
+            pov_times.append(pov_timer()[1])
             for b in a.backends:
-                seconds, image = lray_run(scene, lray_opts, b, a, folder)
-                lray_times[b].append(seconds)
-                if a.refs and b not in images:
-                    kept = os.path.join(folder, "kept-%s.png" % b)
-                    shutil.copy(image, kept)
-                    images[b] = kept
+                lray_times[b].append(lray_timers[b]()[1])
         pov = statistics.median(pov_times)
         line = "%s, POV-Ray %s: %.1f ms (%s)" % (scene, " ".join(pov_opts[:3]), 1000 * pov,
                                                   quartiles(pov_times))
         if a.refs:
             ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "pov-reference.png"))
-            line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(images["povray"]), ref)
+            line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(pov_image), ref)
         print(line)
         for b in a.backends:
             m = statistics.median(lray_times[b])
@@ -140,9 +100,9 @@ def main():
                 b, " ".join(lray_opts[:2]), 1000 * m, quartiles(lray_times[b]), pov / m)
             if a.refs:
                 ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "lray-reference.png"))
-                line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(images[b]), ref)
+                line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(lray_images[b]), ref)
             print(line)
-    shutil.rmtree(folder, ignore_errors=True)
+    shutil.rmtree(a.out, ignore_errors=True)
 
 
 if __name__ == "__main__":

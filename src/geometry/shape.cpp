@@ -59,8 +59,13 @@ Bounds3 padded(const Bounds3 &b) {
 // double by one step of iterative refinement against worldFromObject (the
 // matrix that defines the shape), then the shape's refine (Newton steps on
 // its implicit function, or the exact solution for flat parts). Only below
-// this cosine; steeper hits are within a few ulps already (tests/stress).
-constexpr double kRefineBelowCosine = 0.5;
+// this cosine: unrefined, the far quadrics of tests/stress miss t by at
+// most 1.74 / cos ulps (its "err*cos"), so up to 7 at 0.25, inside the
+// suite's 8. The refinement is slow x87 arithmetic, and it runs on a
+// sphere's rim, c^2 of its disc below cosine c: a sixteenth at 0.25, a
+// quarter at 0.5, where the edge lattice's points crowd (bench/README.md,
+// "Throughput").
+constexpr double kRefineBelowCosine = 0.25;
 
 /// M^-1 (w - translation) (point) or M^-1 w (vector), corrected once by
 /// the residual so its error is that of long double, not of the stored inverse.

@@ -253,10 +253,14 @@ std::vector<uint8_t> SampleBuffer::centreEdges(double threshold) const {
     }
     // Inside the frame every neighbour is there: the same bits without a
     // branch, many pixels to a vector instruction.
+    // (__restrict: unsaid, the uint8_t stores might alias the rows read,
+    // and GCC left the loop scalar.)
     gather(0);
-    const uint8_t *row = &pairs[index(0, y)], *up = row - width_;
-    uint8_t *out = &edges[index(0, y)];
-    for (int x = 1; x + 1 < width_; ++x)
+    const uint8_t *__restrict row = &pairs[index(0, y)];
+    const uint8_t *__restrict up = row - width_;
+    uint8_t *__restrict out = &edges[index(0, y)];
+    const int last = width_ - 1;
+    for (int x = 1; x < last; ++x)
       out[x] = ((row[x] & kOwn) | (row[x - 1] & seenFromNeighbour(kRight)) |
                 (up[x] & seenFromNeighbour(kDown)) | (up[x - 1] & seenFromNeighbour(kDownRight)) |
                 (up[x + 1] & seenFromNeighbour(kDownLeft))) != 0;
@@ -349,10 +353,21 @@ void SampleBuffer::setActiveAround(const std::vector<uint8_t> &noisy, bool centr
       return;
     }
     if (x == 0) judgeBorder(x++);
-    for (const int inner = std::min(r.x1, width_ - 1); x < inner; ++x) {
-      const int noisyNeighbours = up[x - 1] + up[x] + up[x + 1] + row[x - 1] + row[x + 1] +
-                                  down[x - 1] + down[x] + down[x + 1];
-      active[x] = (count[x] < maxSamples) & ((row[x] != 0) | (noisyNeighbours > quietNeighbours));
+    {
+      // The rows apart, so that the loop is vectorised (judgeBorder's
+      // lambda reads them through the pointers above).
+      const uint8_t *__restrict u = up, *__restrict m = row, *__restrict d = down;
+      const uint32_t *__restrict n = count;
+      uint8_t *__restrict a = active;
+      const uint32_t most = maxSamples;
+      const int quiet = quietNeighbours;
+      const int inner = std::min(r.x1, width_ - 1);
+      for (int k = x; k < inner; ++k) {
+        const int noisyNeighbours =
+            u[k - 1] + u[k] + u[k + 1] + m[k - 1] + m[k + 1] + d[k - 1] + d[k] + d[k + 1];
+        a[k] = (n[k] < most) & ((m[k] != 0) | (noisyNeighbours > quiet));
+      }
+      x = std::max(x, inner);
     }
     for (; x < r.x1; ++x) judgeBorder(x);
   });
@@ -374,6 +389,17 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
   std::vector<uint8_t> noisy = centres ? centreEdges(threshold) : std::vector<uint8_t>(pixels);
   tbb::parallel_for(r.y0, r.y1, [&](int y) {
     setFlushToZero();
+    const uint8_t *only = &centreOnly_[index(r.x0, y)];
+    const int n = r.x1 - r.x0;
+    if (centres && std::find(only, only + n, uint8_t{0}) == only + n) {
+      // A row of centres only (the whole frame, after the centre-first
+      // pass): the inlined verdict below, in a loop GCC vectorises.
+      uint8_t *__restrict out = &noisy[index(r.x0, y)];
+      const uint32_t *__restrict count = &count_[index(r.x0, y)];
+      const uint32_t most = maxSamples;
+      for (int k = 0; k < n; ++k) out[k] = (out[k] != 0) & (count[k] < most);
+      return;
+    }
     for (int x = r.x0; x < r.x1; ++x) {
       const size_t i = index(x, y);
       // isNoisy of a pixel of only its centre at a threshold above 0 (with
@@ -386,9 +412,20 @@ size_t SampleBuffer::judgeRegion(double threshold, uint32_t maxSamples) {
   });
   setActiveAround(noisy, centres, maxSamples);
   wholeRegionActive_ = false;
-  for (int y = r.y0; y < r.y1; ++y)
-    for (int x = r.x0; x < r.x1; ++x)
-      if (active_[index(x, y)]) activeList_.push_back(static_cast<uint32_t>(index(x, y)));
+  // Read off eight flags at a time: most of a frame is inactive.
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t row = index(0, y);
+    int x = r.x0;
+    for (; x + 8 <= r.x1; x += 8) {
+      uint64_t flags;
+      std::memcpy(&flags, &active_[row + x], sizeof flags);
+      if (flags == 0) continue;
+      for (int k = 0; k < 8; ++k)
+        if (active_[row + x + k]) activeList_.push_back(static_cast<uint32_t>(row + x + k));
+    }
+    for (; x < r.x1; ++x)
+      if (active_[row + x]) activeList_.push_back(static_cast<uint32_t>(row + x));
+  }
   return activeList_.size();
 }
 

@@ -38,13 +38,15 @@ public:
   /// Floats a pixel's estimate takes (estimateData()): the variance of its
   /// mean (r, g, b), then its error estimate.
   static constexpr size_t kEstimateFloats = 4;
+  /// Where in a pixel's estimate its error estimate lies.
+  static constexpr size_t kErrorFloat = 3;
   /// Writes the estimate setEstimate gives into a pixel's slot `e`.
   static void writeEstimate(float *e, const Color &mean, const Color &variance, uint32_t count,
                             SampleSet samples) {
     e[0] = static_cast<float>(variance.r);
     e[1] = static_cast<float>(variance.g);
     e[2] = static_cast<float>(variance.b);
-    e[3] = static_cast<float>(pixelError(mean, variance, count, samples));
+    e[kErrorFloat] = static_cast<float>(pixelError(mean, variance, count, samples));
   }
 
   int width() const { return width_; }
@@ -98,8 +100,8 @@ public:
   }
 
   /// The pixel's error estimate (0 with fewer than two samples).
-  float error(int x, int y) const { return estimate(x, y)[3]; }
-  void setError(int x, int y, float e) { estimate(x, y)[3] = e; }
+  float error(int x, int y) const { return estimate(x, y)[kErrorFloat]; }
+  void setError(int x, int y, float e) { estimate(x, y)[kErrorFloat] = e; }
   uint32_t sampleCount(int x, int y) const { return samples_[static_cast<size_t>(y) * width_ + x]; }
   void setSampleCount(int x, int y, uint32_t n) {
     samples_[static_cast<size_t>(y) * width_ + x] = n;

@@ -511,7 +511,7 @@ void SampleBuffer::moveTo(Film &film) && {
         float *estimate = &squares_[i * kSquareFloats];
         Film::writeEstimate(estimate, m, variance(i), n, samples_);
         std::fill(estimate + Film::kEstimateFloats, estimate + kSquareFloats, 0.f);
-        error = estimate[3];
+        error = estimate[Film::kErrorFloat];
       }
       row.add(n, error);
       float *sum = &sums_[i * 3];

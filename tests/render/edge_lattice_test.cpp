@@ -61,17 +61,14 @@ TEST(PixelLattice, EveryPointHasItsOwnSlotAndCoarsePointsComeFirst) {
     const uint32_t cells = 1u << depth;
     const uint32_t side = width * cells + 1, rows = height * cells + 1;
     std::vector<uint8_t> seen;
-    uint32_t coarsest = 0, finest = 0;
+    uint32_t coarsest = 0;
     for (uint32_t j = 0; j < rows; ++j)
       for (uint32_t i = 0; i < side; ++i) {
         const uint32_t s = lattice.slot(i, j);
         if (s >= seen.size()) seen.resize(s + 1);
         EXPECT_EQ(seen[s]++, 0) << i << "," << j << " depth " << depth;
         const uint32_t quarter = cells >= 4 ? cells / 4 : 1;
-        if (i % quarter == 0 && j % quarter == 0)
-          coarsest = std::max(coarsest, s);
-        else
-          finest = std::max(finest, s);
+        if (i % quarter == 0 && j % quarter == 0) coarsest = std::max(coarsest, s);
       }
     // About a third more slots than points (the coarser grids), no more.
     EXPECT_LE(seen.size(), size_t(side) * rows * 7 / 5) << depth;

@@ -14,6 +14,14 @@ run's references, to show LRay's run is at POV-Ray's error or below.
     bench/time_vs_error/levels.py                      # the default pairs, 31 runs each
     bench/time_vs_error/levels.py --runs 11 --refs /tmp/tve --pair \\
         "pigments|+A0.3 +AM2 +R3|--noise-threshold 0.07 --min-samples 1 --edge-lattice 5"
+    bench/time_vs_error/levels.py --refs /tmp/tve --find-threshold
+
+With --find-threshold (needs --refs), each pair's --noise-threshold is
+replaced first by the largest threshold on a 2 % grid from half to twice
+it whose render is at or below POV-Ray's RMSE: LRay's run at POV-Ray's
+very level, not at the next step of run.py's ladder (whose steps of
+1.2-1.4x overshoot a level by up to one step, and more where a class of
+edges is cut one level deeper at once).
 
 A pair is "scene|POV-Ray's options|LRay's options" (320x180 and 2 threads
 unless -w, -H, -t say otherwise). The default pairs are the levels where
@@ -45,6 +53,32 @@ def quartiles(v):
     return "%.1f-%.1f" % (1000 * q[0], 1000 * q[2])
 
 
+def threshold_of(opts):
+    return float(opts[opts.index("--noise-threshold") + 1])
+
+
+def with_threshold(opts, threshold):
+    out = list(opts)
+    out[out.index("--noise-threshold") + 1] = "%.6g" % threshold
+    return out
+
+
+def find_threshold(runner, a, scene, opts, level):
+    """The largest threshold t * 1.02^-k (k = -35..35) whose render's RMSE
+    against LRay's reference is at or below `level`. Both backends render
+    the same images, so the first one's runs decide."""
+    ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "lray-reference.png"))
+    t = threshold_of(opts)
+    for k in range(-35, 36):
+        threshold = t * 1.02 ** -k
+        _, _, image, _, _ = runner.lray_render(scene, a.backends[0], "find",
+                                               with_threshold(opts, threshold))
+        if tve.rmse(tve.read_rgb(image), ref) <= level:
+            return threshold
+    sys.exit("levels: no threshold from %g to %g reaches POV-Ray's RMSE %.5f on %s"
+             % (2 * t, t / 2, level, scene))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--lray", default=os.path.join(tve.ROOT, "build", "lray"))
@@ -54,10 +88,14 @@ def main():
     p.add_argument("--backends", type=tve.csv_list(["embree", "kdtree"]),
                    default=["embree", "kdtree"])
     p.add_argument("--refs", help="a run.py --out folder: RMSE against its references")
+    p.add_argument("--find-threshold", action="store_true",
+                   help="LRay's threshold: the largest at or below POV-Ray's RMSE (needs --refs)")
     p.add_argument("-w", "--width", type=int, default=320)
     p.add_argument("-H", "--height", type=int, default=180)
     p.add_argument("-t", "--threads", type=int, default=2)
     a = p.parse_args()
+    if a.find_threshold and not a.refs:
+        sys.exit("levels: --find-threshold needs --refs")
     if not shutil.which("povray"):
         sys.exit("levels: povray is not on PATH (scripts/setup --bench installs it)")
     pairs = [tuple(part.strip() for part in spec.split("|")) for spec in a.pair or DEFAULT_PAIRS]
@@ -78,6 +116,11 @@ def main():
         # The first run of each gives its image; the timers run it again.
         _, seconds, pov_image, _, pov_timer = runner.pov_render(scene, "levels", pov_opts)
         pov_times = [seconds]
+        if a.find_threshold:
+            ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "pov-reference.png"))
+            level = tve.rmse(tve.read_rgb(pov_image), ref)
+            lray_opts = with_threshold(lray_opts, find_threshold(runner, a, scene, lray_opts,
+                                                                 level))
         lray_times, lray_images, lray_timers = {}, {}, {}
         for b in a.backends:
             _, seconds, lray_images[b], _, lray_timers[b] = runner.lray_render(

@@ -201,6 +201,29 @@ template <class Point>
   return 0.5 * range / (1e-4 + std::sqrt(brightness));
 }
 
+/// How far a square's colour departs from changing linearly across it, in
+/// contrastOf's units, from its corners point(0) to point(3) (reading
+/// order: top-left, top-right, bottom-left, bottom-right) and its centre
+/// point(4): per channel the larger of twice the centre's distance from the
+/// corners' mean and the corners' twist (top-left + bottom-right - the
+/// other two), summed, halved, over the square root of the five points'
+/// mean brightness. 0 where the colour is a linear function of position: a
+/// shading or texture gradient, where the points' mean is the square's mean
+/// already. A straight edge across the square, with the centre on one side
+/// and some corner on the other, departs by at least its contrastOf.
+template <class Point>
+[[gnu::always_inline]] inline double departureOf(const Point &point) {
+  const Color a = point(0), b = point(1), c = point(2), d = point(3), m = point(4);
+  const Color sum = a + b + c + d;
+  const Color off = m * 4.0 - sum; // 4 (centre - the corners' mean)
+  const Color twist = a + d - b - c;
+  auto channel = [](double o, double t) { return std::max(0.5 * std::abs(o), std::abs(t)); };
+  const double departure =
+      channel(off.r, twist.r) + channel(off.g, twist.g) + channel(off.b, twist.b);
+  const double brightness = std::max(0.0, ((sum.r + m.r) + (sum.g + m.g) + (sum.b + m.b)) / 5);
+  return 0.5 * departure / (1e-4 + std::sqrt(brightness));
+}
+
 inline bool PixelLattice::judge(double threshold) {
   next_.clear();
   const double finest = 1.0 / (static_cast<double>(cells_) * cells_);
@@ -220,7 +243,13 @@ inline bool PixelLattice::judge(double threshold) {
     // ones are cut only for the stronger edges.
     const double width = static_cast<double>(c.size) / cells_;
     const double least = threshold / (width * width);
-    if (c.size > 1 && contrastOf(n, point) >= least) {
+    // A whole pixel with its centre is cut only where its colour also
+    // departs from linear by half as much (departureOf): a gradient's
+    // points already give its mean, and an edge departs by its contrast.
+    // Half, not all: five points see a bend in the shading only coarsely,
+    // and smooth spheres lost more error than rays at the full threshold.
+    if (c.size > 1 && contrastOf(n, point) >= least &&
+        (n < 5 || departureOf(point) >= 0.5 * least)) {
       for (int k = 0; k < 4; ++k)
         next_.push_back({c.pixel, static_cast<uint16_t>(c.i + (k & 1 ? half : 0)),
                          static_cast<uint16_t>(c.j + (k & 2 ? half : 0)), half});

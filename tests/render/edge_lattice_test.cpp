@@ -49,6 +49,29 @@ TEST(PixelLattice, AFlatPixelTakesItsFourCornersAndKeepsItsColour) {
   EXPECT_NEAR(c.b, 0.7, 1e-7);
 }
 
+// A pixel whose colour changes linearly across it (a shading or texture
+// gradient) is not cut however much its points differ: their mean is its
+// mean already. One whose colour bends, or that an edge crosses, is.
+TEST(PixelLattice, AGradientKeepsItsFivePointsAndABendIsCut) {
+  uint32_t rays = 0;
+  const Color gradient =
+      refine([](double u, double v) { return Color(0.2 + 0.6 * u, 0.5 - 0.4 * v, 0.3); }, 4,
+             1e-4, rays);
+  EXPECT_EQ(rays, 5u);
+  EXPECT_NEAR(gradient.r, 0.5, 1e-7);
+  EXPECT_NEAR(gradient.g, 0.3, 1e-7);
+  // The same range of colours along a parabola: cut, and its mean (0.6 in
+  // red) approached, where the five points alone would give 0.68.
+  const Color bend =
+      refine([](double u, double) { return Color(0.2 + 2.4 * u * (1 - u), 0.5, 0.3); }, 4, 1e-4,
+             rays);
+  EXPECT_GT(rays, 9u);
+  EXPECT_NEAR(bend.r, 0.6, 0.01);
+  // A saddle (the corners' twist) is cut too: detail between the points.
+  refine([](double u, double v) { return Color(u * v, 0.5, 0.3); }, 4, 1e-4, rays);
+  EXPECT_GT(rays, 9u);
+}
+
 // Every point of a tile's lattice has a slot of its own, inside the
 // storage, in a tile of any size and depth; the points of cells cut at
 // most twice (coordinates multiples of a quarter pixel) lie in the first

@@ -15,6 +15,7 @@
 #include "math/color.h"
 #include "render/pixel_lattice.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -32,13 +33,21 @@ public:
   /// the row and column past it (their even pixels are traced too, so that
   /// the tile's last odd row and column lie between traced centres).
   static constexpr int kSide = 16, kWindow = kSide + 1;
-  /// The share of the noise threshold below which a cell's contrast times
-  /// its area lets it be filled: a small one, because a filled centre can
-  /// be wrong in ways its neighbours do not show (a thin line between
-  /// them). At 0.03 the bench scenes' error is unchanged at thresholds 1 to
-  /// 0.3 while a third to two thirds of the centres are filled
-  /// (bench/README.md); at 0.1 a distant checkerboard's aliasing shows.
-  static constexpr double kFillShare = 0.03;
+  /// A cell whose contrast times its area stays below kFillShare of the
+  /// noise threshold, and below kFillMost, is filled. The share lets the
+  /// centres of a smooth gradient (a marble sphere's veins, a soft shadow)
+  /// be filled at low thresholds, where the passes after it refine edges
+  /// anyway; the bound keeps high thresholds from filling across detail
+  /// that its neighbours do not show (a thin line between them): above a
+  /// contrast of 0.024, 3 % of the threshold 0.8, a distant checkerboard's
+  /// aliasing shows. On the bench scenes, the same error with up to 17 %
+  /// fewer camera rays than the 3 % share that bounded it at every
+  /// threshold (bench/README.md, "Fills at low thresholds").
+  static constexpr double kFillShare = 0.2, kFillMost = 0.024;
+
+  static double fillLimit(double threshold) {
+    return std::min(kFillShare * threshold, kFillMost);
+  }
 
   /// Starts the tile of `width` x `height` pixels (at most kSide each)
   /// whose window reaches `past` more pixels right and below within the
@@ -57,8 +66,7 @@ public:
   /// neighbours differ, the others filled with their mean), after
   /// set() has given the last round's colours. A pixel is filled where its
   /// neighbours' contrast (contrastOf, render/pixel_lattice.h) times the
-  /// area between them (in pixels) stays below kFillShare of the noise
-  /// `threshold`.
+  /// area between them (in pixels) stays below fillLimit(`threshold`).
   /// Returns false once every pixel of the tile is known.
   bool next(double threshold, std::vector<Point> &out);
   void set(const Point &p, const Color &c) {
@@ -77,7 +85,7 @@ private:
   /// Fills pixel (x, y) from its known neighbours at offsets `d` (two
   /// opposite pairs: d[0] and d[3], d[1] and d[2]) when there are at least
   /// `least` of them (so at least one whole pair) and their contrast times
-  /// `area` is below kFillShare of the threshold; else appends it to `out`.
+  /// `area` is below fillLimit(threshold); else appends it to `out`.
   void fillOrTrace(int x, int y, const int (*d)[2], int least, double area, double threshold,
                    std::vector<Point> &out);
 
@@ -100,7 +108,7 @@ inline void SparseCentres::fillOrTrace(int x, int y, const int (*d)[2], int leas
   }
   const double contrast =
       n >= least ? contrastOf(n, [&](int k) -> const Color & { return value_[at[k]]; }) : 1e300;
-  if (contrast * area >= kFillShare * threshold) {
+  if (contrast * area >= fillLimit(threshold)) {
     out.push_back({static_cast<uint8_t>(x), static_cast<uint8_t>(y)});
     return;
   }

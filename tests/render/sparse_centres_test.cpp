@@ -92,6 +92,26 @@ TEST(SparseCentres, ASlowRampIsFilledExactlyAndASteepOneTraced) {
   }
 }
 
+TEST(SparseCentres, FillsBelowAFifthOfTheThresholdUpToABound) {
+  // A ramp of slope s in red and green: between four diagonal neighbours
+  // (area 4) its contrast times the area is about 6.5 s, between four
+  // straight ones (area 2) about 3.3 s. The fill limit: a fifth of the
+  // threshold, at most SparseCentres::kFillMost (0.024).
+  SparseCentres sparse;
+  auto ramp = [](double slope) {
+    return [slope](int x, int y) { return Color(0.5 + slope * x, 0.5 + slope * y, 0.5); };
+  };
+  // Threshold 0.1, limit 0.02: s = 0.002 is filled in both rounds (it was
+  // traced under a 3 % share, 0.003).
+  EXPECT_EQ(runTile(sparse, ramp(0.002), 0.1), 81);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) EXPECT_NEAR(sparse.colour(x, y).r, 0.5 + 0.002 * x, 1e-12);
+  // Threshold 1: a fifth would fill s = 0.005 (6.5 s = 0.033) everywhere;
+  // the bound traces the diagonal round and fills the straight one.
+  EXPECT_EQ(runTile(sparse, ramp(0.005), 1), 81 + 64);
+  EXPECT_EQ(runTile(sparse, ramp(0.003), 1), 81);
+}
+
 TEST(SparseCentres, AtTheFramesEdgesTheLastOddCentresAreTraced) {
   // A tile of 14 x 11 pixels at the frame's right and bottom edges: no
   // centre past it; the last column is odd, the last row even.

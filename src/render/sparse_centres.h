@@ -38,12 +38,12 @@ public:
   /// centres of a smooth gradient (a marble sphere's veins, a soft shadow)
   /// be filled at low thresholds, where the passes after it refine edges
   /// anyway; the bound keeps high thresholds from filling across detail
-  /// that its neighbours do not show (a thin line between them): above a
-  /// contrast of 0.024, 3 % of the threshold 0.8, a distant checkerboard's
-  /// aliasing shows. On the bench scenes, the same error with up to 17 %
-  /// fewer camera rays than the 3 % share that bounded it at every
-  /// threshold (bench/README.md, "Fills at low thresholds").
-  static constexpr double kFillShare = 0.2, kFillMost = 0.024;
+  /// that its neighbours do not show (a thin line between them): above
+  /// 0.03 (3 % of the threshold 1, as before) a distant checkerboard's
+  /// aliasing shows. On the bench scenes, the same error with up to a
+  /// fifth fewer camera rays than a 3 % share at every threshold
+  /// (bench/README.md, "Fills at low thresholds").
+  static constexpr double kFillShare = 0.2, kFillMost = 0.03;
 
   static double fillLimit(double threshold) {
     return std::min(kFillShare * threshold, kFillMost);

@@ -96,7 +96,7 @@ TEST(SparseCentres, FillsBelowAFifthOfTheThresholdUpToABound) {
   // A ramp of slope s in red and green: between four diagonal neighbours
   // (area 4) its contrast times the area is about 6.5 s, between four
   // straight ones (area 2) about 3.3 s. The fill limit: a fifth of the
-  // threshold, at most SparseCentres::kFillMost (0.024).
+  // threshold, at most SparseCentres::kFillMost (0.03).
   SparseCentres sparse;
   auto ramp = [](double slope) {
     return [slope](int x, int y) { return Color(0.5 + slope * x, 0.5 + slope * y, 0.5); };
@@ -107,7 +107,7 @@ TEST(SparseCentres, FillsBelowAFifthOfTheThresholdUpToABound) {
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x) EXPECT_NEAR(sparse.colour(x, y).r, 0.5 + 0.002 * x, 1e-12);
   // Threshold 1: a fifth would fill s = 0.005 (6.5 s = 0.033) everywhere;
-  // the bound traces the diagonal round and fills the straight one.
+  // the bound (0.03) traces the diagonal round and fills the straight one.
   EXPECT_EQ(runTile(sparse, ramp(0.005), 1), 81 + 64);
   EXPECT_EQ(runTile(sparse, ramp(0.003), 1), 81);
 }

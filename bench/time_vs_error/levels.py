@@ -26,7 +26,8 @@ edges is cut one level deeper at once).
 A pair is "scene|POV-Ray's options|LRay's options" (320x180 and 2 threads
 unless -w, -H, -t say otherwise). The default pairs are the levels where
 LRay's render time alone was closest to a third of POV-Ray's
-(bench/README.md, "Time to error").
+(bench/README.md, "Time to error"), at thresholds near each level (with
+--find-threshold, where the search starts).
 """
 
 import argparse
@@ -41,8 +42,10 @@ import run as tve
 SPARSE = "--min-samples 1 --edge-lattice 5 --sparse-centres --max-samples 256"
 DEFAULT_PAIRS = [
     "glass|-A|--noise-threshold 0.8 " + SPARSE,
-    "pigments|+A0.3 +AM2 +R3|--noise-threshold 0.07 " + SPARSE,
-    "ring|+A0.1 +AM2 +R3|--noise-threshold 0.035 " + SPARSE,
+    "pigments|+A0.3 +AM2 +R3|--noise-threshold 0.08 " + SPARSE,
+    "ring|+A0.3 +AM2 +R3|--noise-threshold 0.04 " + SPARSE,
+    "ring|+A0.1 +AM2 +R3|--noise-threshold 0.04 " + SPARSE,
+    "ring|+A0.03 +AM2 +R4|--noise-threshold 0.008 " + SPARSE,
 ]
 
 

@@ -165,13 +165,24 @@ const Vec3f kNoNormal{0, 0, 0};
   b2 = b2 < zero ? zero : (one < b2 ? one : b2);
   Lanes s = b1 + b2;
   Mask outside = s > one;
-  b1 = select(outside, b1 / s, b1);
-  b2 = select(outside, b2 / s, b2);
+  // The divisions (and below, the gathers and a square root) only where a
+  // lane needs them: the lanes they leave alone keep their bits, and a
+  // floor's hits, inside their triangles and without vertex normals, need
+  // none of them.
+  if (lanes::bits(outside) != 0) {
+    b1 = select(outside, b1 / s, b1);
+    b2 = select(outside, b2 / s, b2);
+  }
   Lanes b0 = one - b1 - b2;
 
   Lanes3 pObject = p0 * b0 + p1 * b1 + p2 * b2;
   Lanes3 ng = cross(e1, e2);
-  Lanes3 nw = corner(true, 0) * b0 + corner(true, 1) * b1 + corner(true, 2) * b2;
+  // A mesh without normals gives every lane the zero vector: nw is 0 (or
+  // -0), no lane has a normal, and the gathers are left out.
+  bool anyNormals = false;
+  for (int i = 0; i < kLanes; ++i) anyNormals |= c[i].n[0] != &kNoNormal;
+  Lanes3 nw{zero, zero, zero};
+  if (anyNormals) nw = corner(true, 0) * b0 + corner(true, 1) * b1 + corner(true, 2) * b2;
   Lanes nwLen2 = dot(nw, nw);
   Mask haveNormal = (nwLen2 > zero) & finite(nwLen2);
   Mask flip = haveNormal & (dot(nw, ng) < zero);
@@ -190,7 +201,8 @@ const Vec3f kNoNormal{0, 0, 0};
     ng = select(faceNormal, ngFace, back);
   }
   Mask smooth = haveNormal & (gather([&](int i) { return q[i]->entity->smooth ? 1.0 : 0.0; }) != 0);
-  Lanes3 ns = select(smooth, nw * (one / sqrtLanes(nwLen2)), ng);
+  Lanes3 ns = ng;
+  if (lanes::bits(smooth) != 0) ns = select(smooth, nw * (one / sqrtLanes(nwLen2)), ng);
 
   // hitPointErrorFromMagnitudes with the float roundoff (frame at the origin).
   Lanes scale = maxLanes(maxAbsComponent(p0), maxLanes(maxAbsComponent(p1), maxAbsComponent(p2)));

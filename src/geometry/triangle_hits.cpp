@@ -10,9 +10,6 @@
 #include "geometry/shape.h"
 #include "util/cpu_features.h"
 
-#include <cstring>
-#include <emmintrin.h>
-
 namespace lray {
 
 namespace {
@@ -59,16 +56,9 @@ struct Lanes3 {
 [[gnu::always_inline]] inline Lanes maxAbsComponent(const Lanes3 &v) {
   return maxLanes(absLanes(v.x), maxLanes(absLanes(v.y), absLanes(v.z)));
 }
-/// std::sqrt lane-wise: IEEE square roots are correctly rounded, so the
-/// SIMD instruction gives the scalar one's bits (without its errno branch).
+/// std::sqrt lane-wise (lanes::sqrtInPlace).
 [[gnu::always_inline]] inline Lanes sqrtLanes(Lanes v) {
-  __m128d lo, hi;
-  std::memcpy(&lo, &v, sizeof lo);
-  std::memcpy(&hi, reinterpret_cast<const char *>(&v) + sizeof lo, sizeof hi);
-  lo = _mm_sqrt_pd(lo);
-  hi = _mm_sqrt_pd(hi);
-  std::memcpy(&v, &lo, sizeof lo);
-  std::memcpy(reinterpret_cast<char *>(&v) + sizeof lo, &hi, sizeof hi);
+  lanes::sqrtInPlace(v);
   return v;
 }
 /// std::isfinite: x - x is 0 exactly for finite x, NaN otherwise.

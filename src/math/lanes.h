@@ -37,6 +37,26 @@ using Mask = int64_t __attribute__((vector_size(kWidth * sizeof(int64_t))));
   std::memcpy(&v, &bits, sizeof v);
 }
 
+/// std::sqrt lane-wise, in place: IEEE square roots are correctly rounded,
+/// so the SIMD instruction gives the scalar one's bits (without its errno
+/// branch).
+[[gnu::always_inline]] inline void sqrtInPlace(Lanes &v) {
+#ifdef __AVX__
+  __m256d x;
+  std::memcpy(&x, &v, sizeof x);
+  x = _mm256_sqrt_pd(x);
+  std::memcpy(&v, &x, sizeof x);
+#else
+  __m128d lo, hi;
+  std::memcpy(&lo, &v, sizeof lo);
+  std::memcpy(&hi, reinterpret_cast<const char *>(&v) + sizeof lo, sizeof hi);
+  lo = _mm_sqrt_pd(lo);
+  hi = _mm_sqrt_pd(hi);
+  std::memcpy(&v, &lo, sizeof lo);
+  std::memcpy(reinterpret_cast<char *>(&v) + sizeof lo, &hi, sizeof hi);
+#endif
+}
+
 /// Bit k set where lane k of a comparison's mask is true.
 [[gnu::always_inline]] inline uint32_t bits(const Mask &m) {
 #ifdef __AVX__

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "math/lanes.h"
 #include "math/spawn.h"
 #include "shading/specular_lobes.h"
 #include "shading/integrator.h"
@@ -166,24 +167,48 @@ void Integrator<Accel>::addDirectLight(const Hit *hits, const Surface *surfaces,
                 ++m;
               }
             size_t n = 0; // compacted in place: n <= j
-            for (size_t j = 0; j < m; ++j) {
+            // Sample j's direction l and cosine nl, from the light and the
+            // surface: its shadow ray if it faces the light.
+            auto keep = [&](size_t j, const Vec3 &l, double nl) {
+              if (nl <= 0) return; // faces away: no shadow ray
               const uint32_t i = pending[j].ray;
-              const Hit &hit = hits[i];
-              const Vec3 target = targets[j];
-              Vec3 toLight = target - hit.p;
-              double dist = length(toLight);
-              if (!(dist > 0)) continue;
               auto &p = pending[n];
-              p.dir.l = toLight / dist;
-              p.dir.nl = dot(surfaces[i].n, p.dir.l);
-              if (p.dir.nl <= 0) continue; // faces away: no shadow ray
+              p.dir.l = l;
+              p.dir.nl = nl;
               if constexpr (!kUniform) p.dir.color = pending[j].dir.color;
               p.ray = i;
               if (oneShadowRay_)
-                spawnRayTo(hit, target, shadowRays[n]);
+                spawnRayTo(hits[i], targets[j], shadowRays[n]);
               else
-                spawnRayTo(scratch.origins[i], hit, target, shadowRays[n]);
+                spawnRayTo(scratch.origins[i], hits[i], targets[j], shadowRays[n]);
               ++n;
+            };
+            // Four samples at a time: the same operations as below, lane by
+            // lane (the same bits), their square roots and divisions in
+            // vector instructions that overlap.
+            size_t first = 0;
+            for (; first + lanes::kWidth <= m; first += lanes::kWidth) {
+              lanes::Lanes tx, ty, tz, nx, ny, nz;
+              for (int k = 0; k < lanes::kWidth; ++k) {
+                const uint32_t i = pending[first + k].ray;
+                const Vec3 &p = hits[i].p, &t = targets[first + k], &sn = surfaces[i].n;
+                tx[k] = t.x - p.x, ty[k] = t.y - p.y, tz[k] = t.z - p.z;
+                nx[k] = sn.x, ny[k] = sn.y, nz[k] = sn.z;
+              }
+              lanes::Lanes dist = tx * tx + ty * ty + tz * tz;
+              lanes::sqrtInPlace(dist);
+              const lanes::Lanes lx = tx / dist, ly = ty / dist, lz = tz / dist;
+              const lanes::Lanes nl = nx * lx + ny * ly + nz * lz;
+              for (int k = 0; k < lanes::kWidth; ++k)
+                if (dist[k] > 0) keep(first + k, {lx[k], ly[k], lz[k]}, nl[k]);
+            }
+            for (; first < m; ++first) {
+              const uint32_t i = pending[first].ray;
+              const Vec3 toLight = targets[first] - hits[i].p;
+              const double dist = length(toLight);
+              if (!(dist > 0)) continue;
+              const Vec3 l = toLight / dist;
+              keep(first, l, dot(surfaces[i].n, l));
             }
             shadow += n;
             if (n == 0) continue;

@@ -9,7 +9,7 @@
 // slowly shaded surface) three centres in four cost no ray; an edge or a
 // texture's detail is traced as before. What it misses: a line thinner than
 // two pixels that falls between traced centres of one colour (which every
-// centre would have seen), hence the small share of the threshold below.
+// centre would have seen), hence the small bound on the fill below.
 #pragma once
 
 #include "math/color.h"

@@ -66,11 +66,10 @@ def with_threshold(opts, threshold):
     return out
 
 
-def find_threshold(runner, a, scene, opts, level):
+def find_threshold(runner, a, scene, opts, ref, level):
     """The largest threshold t * 1.02^-k (k = -35..35) whose render's RMSE
-    against LRay's reference is at or below `level`. Both backends render
-    the same images, so the first one's runs decide."""
-    ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "lray-reference.png"))
+    against LRay's reference `ref` is at or below `level`. Both backends
+    render the same images, so the first one's runs decide."""
     t = threshold_of(opts)
     for k in range(-35, 36):
         threshold = t * 1.02 ** -k
@@ -119,11 +118,15 @@ def main():
         # The first run of each gives its image; the timers run it again.
         _, seconds, pov_image, _, pov_timer = runner.pov_render(scene, "levels", pov_opts)
         pov_times = [seconds]
+        if a.refs:
+            # Each renderer against its own reference, read once a pair.
+            refs = os.path.join(a.refs, "renders", scene)
+            pov_rmse = tve.rmse(tve.read_rgb(pov_image),
+                                tve.read_rgb(os.path.join(refs, "pov-reference.png")))
+            lray_ref = tve.read_rgb(os.path.join(refs, "lray-reference.png"))
         if a.find_threshold:
-            ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "pov-reference.png"))
-            level = tve.rmse(tve.read_rgb(pov_image), ref)
             lray_opts = with_threshold(lray_opts, find_threshold(runner, a, scene, lray_opts,
-                                                                 level))
+                                                                 lray_ref, pov_rmse))
         lray_times, lray_images, lray_timers = {}, {}, {}
         for b in a.backends:
             _, seconds, lray_images[b], _, lray_timers[b] = runner.lray_render(
@@ -137,16 +140,14 @@ def main():
         line = "%s, POV-Ray %s: %.1f ms (%s)" % (scene, " ".join(pov_opts[:3]), 1000 * pov,
                                                   quartiles(pov_times))
         if a.refs:
-            ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "pov-reference.png"))
-            line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(pov_image), ref)
+            line += ", RMSE %.5f" % pov_rmse
         print(line)
         for b in a.backends:
             m = statistics.median(lray_times[b])
             line = "  LRay %s %s: %.2f ms (%s), POV-Ray / LRay %.2f" % (
                 b, " ".join(lray_opts[:2]), 1000 * m, quartiles(lray_times[b]), pov / m)
             if a.refs:
-                ref = tve.read_rgb(os.path.join(a.refs, "renders", scene, "lray-reference.png"))
-                line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(lray_images[b]), ref)
+                line += ", RMSE %.5f" % tve.rmse(tve.read_rgb(lray_images[b]), lray_ref)
             print(line)
     shutil.rmtree(a.out, ignore_errors=True)
 

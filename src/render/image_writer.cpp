@@ -3,6 +3,7 @@
 // temporary file renamed over the final name.
 #include "render/image_writer.h"
 
+#include "render/srgb_bytes.h"
 #include "shading/oiio_library.h"
 #include "util/scene_error.h"
 
@@ -50,9 +51,7 @@ inline uint8_t round255(float v) {
 } // namespace
 
 uint8_t quantize8(float value, bool srgb) {
-  float v = unitClamp(value);
-  if (srgb) v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
-  return round255(std::clamp(v, 0.f, 1.f));
+  return srgb ? srgbByte(value) : round255(unitClamp(value));
 }
 
 std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
@@ -63,8 +62,7 @@ std::vector<uint8_t> quantizeFilm(const Film &film, bool srgb) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, src.size(), size_t{1} << 16),
                     [&](const tbb::blocked_range<size_t> &r) {
                       if (srgb) {
-                        for (size_t i = r.begin(); i != r.end(); ++i)
-                          out[i] = quantize8(src[i], true);
+                        srgbBytes(&src[r.begin()], &out[r.begin()], r.size());
                         return;
                       }
                       for (size_t i = r.begin(); i != r.end(); ++i)

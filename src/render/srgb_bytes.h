@@ -1,0 +1,26 @@
+// Pipeline: render (last stage). The 8-bit sRGB value of a linear-light
+// value (`lray --linear`, README.md): the transfer curve's power, once per
+// channel of every pixel, was most of a linear-workflow PNG's encoding.
+// srgbByte gives the very byte the formula (srgbByteExact) gives, from a
+// table: the formula is non-decreasing in its argument, so its bytes are
+// told apart by 255 thresholds, found once by bisection on the formula.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace lray {
+
+/// The sRGB transfer curve of `value` clamped to [0, 1] (NaN as 0), times
+/// 255, rounded half away from zero: the formula, a power per call.
+uint8_t srgbByteExact(float value);
+
+/// srgbByteExact(value), bit for bit, without the power: a table look-up
+/// by the value's leading bits and at most a few comparisons against the
+/// thresholds (the table is built on first use, about 8,000 powers).
+uint8_t srgbByte(float value);
+
+/// out[i] = srgbByte(in[i]) for i < n (the table found once).
+void srgbBytes(const float *in, uint8_t *out, size_t n);
+
+} // namespace lray

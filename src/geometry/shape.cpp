@@ -11,6 +11,9 @@
 #include "geometry/csg_ray.h"
 #include "geometry/csg_tree.h"
 #include "math/error_bound.h"
+#include "geometry/shapes/sphere_lanes.h"
+
+#include <bit>
 
 namespace lray {
 
@@ -339,6 +342,45 @@ bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax) {
 bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax) {
   return occludedAnalytic(*std::get_if<Sphere>(&entity.shape),
                           entity.worldFromObject.inverseMatrix(), worldRay, tMax);
+}
+
+uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
+                                   const Ray *const (&rays)[4], const double (&tMax)[4],
+                                   uint32_t open, Hit *const (&hits)[4]) {
+  // intersectAnalytic's steps lane by lane (sphere_lanes.h) up to the
+  // hit's t, then fillAnalytic's scalar code for each lane that hits.
+  // Sphere::missesLine (clearlyMissed) is left out: where it settles a
+  // line, the full test finds no hit either.
+  using lanes::Lanes;
+  const Sphere &sphere = *std::get_if<Sphere>(&entity.shape);
+  const auto &m = entity.worldFromObject.inverseMatrix().m;
+  lanes::RayLanes w, r;
+  lanes::loadRays(rays, w);
+  // objectRay: affinePoint and affineVector.
+  r.ox = m[0][0] * w.ox + m[0][1] * w.oy + m[0][2] * w.oz + m[0][3];
+  r.oy = m[1][0] * w.ox + m[1][1] * w.oy + m[1][2] * w.oz + m[1][3];
+  r.oz = m[2][0] * w.ox + m[2][1] * w.oy + m[2][2] * w.oz + m[2][3];
+  r.dx = m[0][0] * w.dx + m[0][1] * w.dy + m[0][2] * w.dz;
+  r.dy = m[1][0] * w.dx + m[1][1] * w.dy + m[1][2] * w.dz;
+  r.dz = m[2][0] * w.dx + m[2][1] * w.dy + m[2][2] * w.dz;
+  r.tMin = w.tMin;
+  lanes::load(tMax, r.tMax);
+  const Lanes shift = sphere_lanes::originShift(r, kFarOrigin);
+  sphere_lanes::reorigin(r, shift);
+  Lanes t;
+  uint32_t found = 0;
+  for (uint32_t left = sphere_lanes::intersect(r, t) & open; left != 0; left &= left - 1) {
+    const int k = std::countr_zero(left);
+    const Ray ray{{r.ox[k], r.oy[k], r.oz[k]}, {r.dx[k], r.dy[k], r.dz[k]}, r.tMin[k], r.tMax[k],
+                  rays[k]->time};
+    Hit hit;
+    if (!fillAnalytic(sphere, entity.worldFromObject, entityIndex, *rays[k], tMax[k],
+                      entity.readsUv, ray, shift[k], ObjectHit{t[k], 0}, hit))
+      continue;
+    *hits[k] = hit;
+    found |= 1u << k;
+  }
+  return found;
 }
 
 int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift) {

@@ -41,6 +41,15 @@ bool occludedShape(const Entity &entity, const Ray &worldRay, double tMax);
 /// thousands of spheres' shadow rays.
 bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax);
 
+/// intersectShape of four rays at once on a still sphere (isStillSphere):
+/// for each lane k in `open`, rays[k] against the entity before tMax[k];
+/// bit k of the result set where it hits, and *hits[k] then holds the hit
+/// intersectShape gives, bit for bit (untouched elsewhere). Rays of lanes
+/// outside `open` are read but not used (any ray will do).
+uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
+                                   const Ray *const (&rays)[4], const double (&tMax)[4],
+                                   uint32_t open, Hit *const (&hits)[4]);
+
 /// Whether occludedStillSphere may test `entity`.
 inline bool isStillSphere(const Entity &entity) {
   return !entity.motion && std::holds_alternative<Sphere>(entity.shape);

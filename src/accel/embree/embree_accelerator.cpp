@@ -152,6 +152,7 @@ struct EmbreeCallbacks {
   static void intersectShapeLanes(const RTCIntersectFunctionNArguments *args,
                                   const EmbreeAccelerator::ShapeRef &shape,
                                   const MovingBoxes *moving) {
+    if (shape.stillSphere && !moving) return intersectSphereLanes(args, shape);
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
@@ -174,6 +175,50 @@ struct EmbreeCallbacks {
       setHit(hits, n, i, static_cast<float>(h.ng.x), static_cast<float>(h.ng.y),
              static_cast<float>(h.ng.z), static_cast<float>(h.u), static_cast<float>(h.v),
              args->primID, args->geomID, args->context->instID[0]);
+    }
+  }
+
+  /// intersectShapeLanes for a still sphere: four lanes at a time, its
+  /// bound (SphereBound) first, then one test of the four
+  /// (intersectStillSphereLanes): the same hits as one lane at a time.
+  static void intersectSphereLanes(const RTCIntersectFunctionNArguments *args,
+                                   const EmbreeAccelerator::ShapeRef &shape) {
+    auto *ctx = reinterpret_cast<QueryContext *>(args->context);
+    const unsigned n = args->N;
+    RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN *hits = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned base = 0; base < n; base += 4) {
+      // Lanes past N or invalid read the packet's first ray.
+      const Ray *lane[4] = {ctx->rays, ctx->rays, ctx->rays, ctx->rays};
+      double tMax[4] = {};
+      unsigned id[4] = {};
+      uint32_t open = 0;
+      for (unsigned k = 0; k < 4 && base + k < n; ++k) {
+        const unsigned i = base + k;
+        if (!args->valid[i]) continue;
+        id[k] = RTCRayN_id(rays, n, i);
+        lane[k] = &ctx->rays[id[k]];
+        // As intersectShapeLanes: below the best analytic hit and Embree's.
+        tMax[k] = std::min(std::min(lane[k]->tMax, ctx->bestT[id[k]]),
+                           static_cast<double>(RTCRayN_tfar(rays, n, i)));
+        open |= 1u << k;
+      }
+      if (open == 0) continue;
+      open &= ~shape.sphereBound.missesLines(lane);
+      if (open == 0) continue;
+      Hit *const out[4] = {&ctx->hits[id[0]], &ctx->hits[id[1]], &ctx->hits[id[2]],
+                           &ctx->hits[id[3]]};
+      for (uint32_t found = intersectStillSphereLanes(*shape.entity, shape.index, lane, tMax,
+                                                      open, out);
+           found != 0; found &= found - 1) {
+        const unsigned k = static_cast<unsigned>(std::countr_zero(found)), i = base + k;
+        const Hit &h = *out[k];
+        ctx->bestT[id[k]] = h.t;
+        RTCRayN_tfar(rays, n, i) = roundUp(h.t);
+        setHit(hits, n, i, static_cast<float>(h.ng.x), static_cast<float>(h.ng.y),
+               static_cast<float>(h.ng.z), static_cast<float>(h.u), static_cast<float>(h.v),
+               args->primID, args->geomID, args->context->instID[0]);
+      }
     }
   }
 

@@ -511,6 +511,32 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       const Entity &entity = scene_.entities[inst.entity];
       const bool stillSphere = inst.transform != kIdentity;
       if (AnyHit && stillSphere) in &= ~sphereBounds_[inst.transform].missesLines(rayLanes);
+      if (!AnyHit && stillSphere && in != 0) {
+        // The lanes' rays tested together (intersectStillSphereLanes): the
+        // same hits as one lane at a time. (Lanes outside `in` read the
+        // first lane's ray.)
+        const Ray *laneRays[kRays];
+        double bound[kRays];
+        const int first = std::countr_zero(in);
+        for (int i = 0; i < kRays; ++i) {
+          laneRays[i] = &rays[(in >> i & 1u) ? i : first];
+          bound[i] = tBest[i];
+        }
+        in &= ~sphereBounds_[inst.transform].missesLines(laneRays);
+        if (in == 0) return found;
+        Hit got[kRays];
+        Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
+        for (uint32_t hit = intersectStillSphereLanes(entity, inst.entity, laneRays, bound, in, out);
+             hit != 0; hit &= hit - 1) {
+          const int i = std::countr_zero(hit);
+          if (!(got[i].t < tBest[i])) continue;
+          finds->shapeHits[i] = got[i];
+          tBest[i] = got[i].t;
+          finds->triangleLanes &= ~(1u << i);
+          found |= 1u << i;
+        }
+        return found;
+      }
       for (; in != 0; in &= in - 1) {
         const int i = std::countr_zero(in);
         if (!AnyHit && passesStillSphere(inst, rays[i])) continue;

@@ -152,7 +152,8 @@ struct EmbreeCallbacks {
   static void intersectShapeLanes(const RTCIntersectFunctionNArguments *args,
                                   const EmbreeAccelerator::ShapeRef &shape,
                                   const MovingBoxes *moving) {
-    if (shape.stillSphere && !moving) return intersectSphereLanes(args, shape);
+    // Packets of four or eight rays (a single ray takes the scalar test).
+    if (shape.stillSphere && !moving && args->N >= 4) return intersectSphereLanes(args, shape);
     auto *ctx = reinterpret_cast<QueryContext *>(args->context);
     const unsigned n = args->N;
     RTCRayN *rays = RTCRayHitN_RayN(args->rayhit, n);

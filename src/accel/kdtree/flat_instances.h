@@ -10,6 +10,7 @@
 
 #include "accel/kdtree/kd_tree.h"
 #include "accel/kdtree/packet_lanes.h"
+#include "math/ray_lanes.h"
 #include "math/bounds.h"
 #include "math/ray.h"
 
@@ -49,19 +50,120 @@ public:
   bool empty() const { return count_ == 0; }
   bool full() const { return count_ == kMaxInstances; }
 
-  /// test(id, tBest) for each entity whose box the segment (tMin, tBest)
-  /// of `ray` crosses; whether any test returned true. AnyHit: in the
-  /// order they were kept, until a test returns true. Else, for the
-  /// nearest hit (a test lowers tBest to the hit it finds): nearest box
-  /// first, until the next box begins past tBest.
-  template <bool AnyHit, class Test>
-  [[gnu::always_inline]] bool forEachCrossed(const Ray &ray, double &tBest, Test &&test) const {
+  /// How start() found a ray: it crosses no box; a component of its
+  /// direction is 0 (boxes are then tested one by one, forEachCrossed); or
+  /// its Walk holds the boxes it crosses.
+  enum class Start { None, Parallel, Boxes };
+  /// One ray's boxes: each crossed box's entry t, and which are left.
+  struct Walk {
+    alignas(32) double enter[kMaxInstances];
+    uint32_t crossed = 0;
+  };
+
+  /// The boxes the segment (tMin, tBest) of `ray` crosses, into `walk`
+  /// where the answer is Start::Boxes.
+  [[gnu::always_inline]] Start start(const Ray &ray, double tBest, Walk &walk) const {
     const double o[3] = {ray.o.x, ray.o.y, ray.o.z}, d[3] = {ray.d.x, ray.d.y, ray.d.z};
     const double invD[3] = {1 / d[0], 1 / d[1], 1 / d[2]};
     // Rays that miss every box (the background) are told by one test.
-    if (!crosses(all_, o, d, invD, ray.tMin, tBest)) return false;
+    if (!crosses(all_, o, d, invD, ray.tMin, tBest)) return Start::None;
+    if (d[0] == 0 || d[1] == 0 || d[2] == 0) return Start::Parallel;
+    // Every box's entry t at once; a box is tested while its entry lies
+    // before its exit and the nearest hit so far.
+    uint32_t crossed = 0;
+    for (uint32_t g = 0; g * kLanes < count_; ++g)
+      crossed |= entries(groups_[g], o, invD, ray.tMin, tBest, walk.enter + kLanes * g)
+                 << kLanes * g;
+    walk.crossed = crossed & ((1u << count_) - 1);
+    return Start::Boxes;
+  }
+
+  /// start() of four rays at once (rays[k], k in `open`; the others read
+  /// any ray): the rays' fields in lanes, each box's slab test of the four
+  /// (the same operations, lane by lane: the same entries and answers). A
+  /// ray with a direction component 0 takes start() alone.
+  static constexpr int kRays = packet_lanes::kWidth;
+  [[gnu::always_inline]] void start(const Ray *const (&rays)[kRays], uint32_t open,
+                                    Walk (&walks)[kRays], Start (&how)[kRays]) const {
+    lanes::RayLanes r;
+    lanes::loadRays(rays, r);
+    const Lanes one = Lanes{} + 1.0;
+    const Lanes invD[3] = {one / r.dx, one / r.dy, one / r.dz};
+    const Lanes origin[3] = {r.ox, r.oy, r.oz};
+    const uint32_t parallel =
+        packet_lanes::bits((r.dx == 0.0) | (r.dy == 0.0) | (r.dz == 0.0)) & open;
+    Lanes slack;
+    packet_lanes::splat(KdTree::kSlack, slack);
+    // Whether each ray's segment (tMin, tMax) crosses `box`; its entry t.
+    auto clip = [&](const Bounds3 &box, Lanes &tEnter) {
+      tEnter = r.tMin;
+      Lanes tExit = r.tMax;
+      for (int a = 0; a < 3; ++a) {
+        Lanes lo, hi;
+        packet_lanes::splat(box.lo[a], lo);
+        packet_lanes::splat(box.hi[a], hi);
+        packet_lanes::clipToSlab(lo, hi, origin[a], invD[a], slack, tEnter, tExit);
+      }
+      return packet_lanes::bits(tEnter <= tExit);
+    };
+    Lanes tEnter;
+    const uint32_t any = clip(all_, tEnter) & open & ~parallel;
+    uint32_t crossed[packet_lanes::kWidth] = {};
+    if (any != 0)
+      for (uint32_t b = 0; b < count_; ++b) {
+        const uint32_t in = clip(boxes_[b], tEnter);
+        for (int k = 0; k < kRays; ++k) {
+          walks[k].enter[b] = tEnter[k];
+          crossed[k] |= (in >> k & 1u) << b;
+        }
+      }
+    for (int k = 0; k < kRays; ++k) {
+      if (!(open >> k & 1u)) continue;
+      if (parallel >> k & 1u) {
+        how[k] = start(*rays[k], rays[k]->tMax, walks[k]);
+        continue;
+      }
+      how[k] = any >> k & 1u ? Start::Boxes : Start::None;
+      walks[k].crossed = crossed[k];
+    }
+  }
+
+  /// For the nearest hit: the walk's next box (its index; id() names its
+  /// entity), nearest entry first (the first kept on equal entries), or -1
+  /// once the next begins past tBest (the nearest hit so far) or none is
+  /// left. A floor's box, crossed behind the shape a ray meets, is then not
+  /// tested at all.
+  [[gnu::always_inline]] int next(Walk &walk, double tBest) const {
+    if (walk.crossed == 0) return -1;
+    uint32_t i = static_cast<uint32_t>(__builtin_ctz(walk.crossed));
+    for (uint32_t rest = walk.crossed & (walk.crossed - 1); rest != 0; rest &= rest - 1) {
+      const uint32_t k = static_cast<uint32_t>(__builtin_ctz(rest));
+      if (walk.enter[k] < walk.enter[i]) i = k;
+    }
+    if (!(walk.enter[i] <= tBest)) {
+      walk.crossed = 0;
+      return -1;
+    }
+    walk.crossed &= ~(1u << i);
+    return static_cast<int>(i);
+  }
+  /// The entity of box `i`.
+  uint32_t id(int i) const { return ids_[i]; }
+
+  /// test(id, tBest) for each entity whose box the segment (tMin, tBest)
+  /// of `ray` crosses; whether any test returned true. AnyHit: in the
+  /// order they were kept, until a test returns true. Else, for the
+  /// nearest hit (a test lowers tBest to the hit it finds): in next()'s
+  /// order.
+  template <bool AnyHit, class Test>
+  [[gnu::always_inline]] bool forEachCrossed(const Ray &ray, double &tBest, Test &&test) const {
+    Walk walk;
+    const Start how = start(ray, tBest, walk);
+    if (how == Start::None) return false;
     bool hit = false;
-    if (d[0] == 0 || d[1] == 0 || d[2] == 0) { // a parallel axis: box by box
+    if (how == Start::Parallel) { // box by box
+      const double o[3] = {ray.o.x, ray.o.y, ray.o.z}, d[3] = {ray.d.x, ray.d.y, ray.d.z};
+      const double invD[3] = {1 / d[0], 1 / d[1], 1 / d[2]};
       for (uint32_t i = 0; i < count_; ++i) {
         if (!crosses(boxes_[i], o, d, invD, ray.tMin, tBest)) continue;
         if (test(ids_[i], tBest)) {
@@ -71,34 +173,14 @@ public:
       }
       return hit;
     }
-    // Every box's entry t at once; a box is tested while its entry lies
-    // before its exit and the nearest hit so far.
-    alignas(32) double enter[kMaxInstances];
-    uint32_t crossed = 0;
-    for (uint32_t g = 0; g * kLanes < count_; ++g)
-      crossed |= entries(groups_[g], o, invD, ray.tMin, tBest, enter + kLanes * g) << kLanes * g;
-    crossed &= (1u << count_) - 1;
     if (AnyHit) {
-      for (; crossed != 0; crossed &= crossed - 1) {
+      for (uint32_t crossed = walk.crossed; crossed != 0; crossed &= crossed - 1) {
         const uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
-        if (enter[i] <= tBest && test(ids_[i], tBest)) return true;
+        if (walk.enter[i] <= tBest && test(ids_[i], tBest)) return true;
       }
       return false;
     }
-    // The nearest hit: boxes by their entry, nearest first (the first kept
-    // on equal entries), until the next one begins past the nearest hit so
-    // far. A floor's box, crossed behind the shape a ray meets, is then
-    // not tested at all.
-    while (crossed != 0) {
-      uint32_t i = static_cast<uint32_t>(__builtin_ctz(crossed));
-      for (uint32_t rest = crossed & (crossed - 1); rest != 0; rest &= rest - 1) {
-        const uint32_t k = static_cast<uint32_t>(__builtin_ctz(rest));
-        if (enter[k] < enter[i]) i = k;
-      }
-      if (!(enter[i] <= tBest)) break;
-      crossed &= ~(1u << i);
-      hit |= test(ids_[i], tBest);
-    }
+    for (int i; (i = next(walk, tBest)) >= 0;) hit |= test(ids_[i], tBest);
     return hit;
   }
 

@@ -384,6 +384,30 @@ uint32_t KdTreeAccelerator::intersectMeshPacket(const Instance &inst, const Ray 
 
 template <KdRays Rays>
 [[gnu::always_inline]] inline bool
+KdTreeAccelerator::nearestInstance(uint32_t prim, const Ray &ray, double &tBest, Hit &hit,
+                                   TriangleCandidate &best, bool &bestIsTriangle) const {
+  const Instance &inst = instances_[prim];
+  const Entity &entity = scene_.entities[inst.entity];
+  if (moving_.misses(inst.entity, ray, tBest)) return false;
+  if (inst.meshTree == kAnalytic) {
+    if (passesStillSphere(inst, ray)) return false;
+    Hit candidate;
+    if (!intersectShape(entity, inst.entity, ray, tBest, candidate) || !(candidate.t < tBest))
+      return false;
+    hit = candidate;
+    tBest = candidate.t;
+    bestIsTriangle = false;
+    return true;
+  }
+  MeshHit meshHit;
+  if (!intersectMesh<false, Rays>(inst, ray, tBest, meshHit)) return false;
+  best = {inst.entity, inst.meshTree, meshHit};
+  bestIsTriangle = true;
+  return true;
+}
+
+template <KdRays Rays>
+[[gnu::always_inline]] inline bool
 KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best,
                                   bool &bestIsTriangle, double &tMax,
                                   const FlatInstances *list) const {
@@ -392,24 +416,7 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
   // theirs into `hit` as they are found (a nearer find overwrites it).
   bestIsTriangle = false;
   auto testInstance = [&](uint32_t prim, double &tBest) {
-    const Instance &inst = instances_[prim];
-    const Entity &entity = scene_.entities[inst.entity];
-    if (moving_.misses(inst.entity, ray, tBest)) return false;
-    if (inst.meshTree == kAnalytic) {
-      if (passesStillSphere(inst, ray)) return false;
-      Hit candidate;
-      if (!intersectShape(entity, inst.entity, ray, tBest, candidate) || !(candidate.t < tBest))
-        return false;
-      hit = candidate;
-      tBest = candidate.t;
-      bestIsTriangle = false;
-      return true;
-    }
-    MeshHit meshHit;
-    if (!intersectMesh<false, Rays>(inst, ray, tBest, meshHit)) return false;
-    best = {inst.entity, inst.meshTree, meshHit};
-    bestIsTriangle = true;
-    return true;
+    return nearestInstance<Rays>(prim, ray, tBest, hit, best, bestIsTriangle);
   };
   // A few entities: their boxes in a list (flat_instances.h). One: the
   // top-level tree would only clip the ray to its bounds. More: an entity
@@ -422,6 +429,86 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
              : top_.traverse<false, Rays>(ray, tMax, [&](uint32_t prim, double &tBest) {
                  return mailbox.firstVisit(prim) && testInstance(prim, tBest);
                });
+}
+
+void KdTreeAccelerator::nearestInList(const FlatInstances &list, const Ray *rays, int n,
+                                      Hit *hits, TriangleCandidate *best, bool *bestIsTriangle,
+                                      double *tMax, uint8_t *found) const {
+  FlatInstances::Walk walks[kRays];
+  int next[kRays];
+  uint32_t walking = 0;
+  FlatInstances::Start how[kRays];
+  const Ray *starts[kRays];
+  for (int k = 0; k < kRays; ++k) starts[k] = &rays[k < n ? k : 0];
+  if (!list.empty()) list.start(starts, (1u << n) - 1, walks, how);
+  for (int i = 0; i < n; ++i) {
+    bestIsTriangle[i] = false;
+    tMax[i] = rays[i].tMax;
+    found[i] = 0;
+    if (list.empty()) continue;
+    switch (how[i]) {
+    case FlatInstances::Start::None: break;
+    case FlatInstances::Start::Parallel: // box by box, alone
+      found[i] = nearestBounded<KdRays::Coherent>(rays[i], hits[i], best[i], bestIsTriangle[i],
+                                                  tMax[i], &list);
+      break;
+    case FlatInstances::Start::Boxes: walking |= 1u << i; break;
+    }
+  }
+  // Round by round, each ray's next box; the rays whose next box is the
+  // same are tested together.
+  while (walking != 0) {
+    for (uint32_t w = walking; w != 0; w &= w - 1) {
+      const int i = std::countr_zero(w);
+      next[i] = list.next(walks[i], tMax[i]);
+      if (next[i] < 0) walking &= ~(1u << i);
+    }
+    for (uint32_t left = walking; left != 0;) {
+      const int box = next[std::countr_zero(left)];
+      uint32_t same = 0;
+      for (uint32_t w = left; w != 0; w &= w - 1)
+        if (next[std::countr_zero(w)] == box) same |= 1u << std::countr_zero(w);
+      left &= ~same;
+      const uint32_t prim = list.id(box);
+      const Instance &inst = instances_[prim];
+      if (inst.meshTree == kAnalytic && inst.transform != kIdentity &&
+          !moving_.moves(inst.entity) && (same & (same - 1)) != 0) {
+        // A still sphere met by several rays: four at once
+        // (intersectStillSphereLanes), after its bound (passesStillSphere
+        // lane by lane). Lanes outside `same` read its first ray.
+        const Ray *laneRays[kRays];
+        double bound[kRays];
+        const int first = std::countr_zero(same);
+        for (int k = 0; k < kRays; ++k) {
+          const int i = k < n && (same >> k & 1u) ? k : first;
+          laneRays[k] = &rays[i];
+          bound[k] = tMax[i];
+        }
+        same &= ~sphereBounds_[inst.transform].missesLines(laneRays);
+        Hit got[kRays];
+        Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
+        for (uint32_t hit = same == 0 ? 0
+                                      : intersectStillSphereLanes(scene_.entities[inst.entity],
+                                                                  inst.entity, laneRays, bound,
+                                                                  same, out);
+             hit != 0; hit &= hit - 1) {
+          const int i = std::countr_zero(hit);
+          if (!(got[i].t < tMax[i])) continue;
+          hits[i] = got[i];
+          tMax[i] = got[i].t;
+          bestIsTriangle[i] = false;
+          found[i] = 1;
+        }
+        continue;
+      }
+      for (; same != 0; same &= same - 1) {
+        const int i = std::countr_zero(same);
+        if (nearestInstance<KdRays::Coherent>(prim, rays[i], tMax[i], hits[i], best[i],
+                                              bestIsTriangle[i]))
+          found[i] = 1;
+      }
+    }
+  }
 }
 
 template <KdRays Rays> bool KdTreeAccelerator::intersectRay(const Ray &ray, Hit &hit) const {
@@ -526,7 +613,8 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
         if (in == 0) return found;
         Hit got[kRays];
         Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
-        for (uint32_t hit = intersectStillSphereLanes(entity, inst.entity, laneRays, bound, in, out);
+        for (uint32_t hit =
+                 intersectStillSphereLanes(entity, inst.entity, laneRays, bound, in, out);
              hit != 0; hit &= hit - 1) {
           const int i = std::countr_zero(hit);
           if (!(got[i].t < tBest[i])) continue;
@@ -629,7 +717,20 @@ void KdTreeAccelerator::intersectCoherent(const Ray *rays, size_t count, Hit *hi
       queries[nq++] = {&scene_.entities[best.entity], best.entity, triangle, t, best.mesh.b1,
                        best.mesh.b2, &rays[r], &hits[r]};
     };
-    if (!usePackets_) {
+    const FlatInstances *flat = list ? list : flat_.empty() ? nullptr : &flat_;
+    if (!usePackets_ && flat) {
+      // A few entities: the rays four at a time (nearestInList).
+      for (size_t first = chunk; first < chunkEnd; first += kRays) {
+        const int n = static_cast<int>(std::min<size_t>(kRays, chunkEnd - first));
+        TriangleCandidate best[kRays];
+        bool bestIsTriangle[kRays];
+        double tMax[kRays];
+        nearestInList(*flat, rays + first, n, hits + first, best, bestIsTriangle, tMax,
+                      found + first);
+        for (int i = 0; i < n; ++i)
+          if (found[first + i] && bestIsTriangle[i]) addQuery(best[i], tMax[i], first + i);
+      }
+    } else if (!usePackets_) {
       for (size_t r = chunk; r < chunkEnd; ++r) {
         TriangleCandidate best;
         bool bestIsTriangle = false;

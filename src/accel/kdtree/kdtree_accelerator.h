@@ -160,6 +160,19 @@ private:
   template <KdRays Rays>
   bool nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &best, bool &bestIsTriangle,
                       double &tMax, const FlatInstances *list = nullptr) const;
+  /// nearestBounded's test of instance `prim` for one ray: lowers tBest to
+  /// the nearer hit it finds (an analytic shape's Hit in `hit`, a triangle
+  /// in `best`).
+  template <KdRays Rays>
+  bool nearestInstance(uint32_t prim, const Ray &ray, double &tBest, Hit &hit,
+                       TriangleCandidate &best, bool &bestIsTriangle) const;
+  /// nearestBounded over `list` for rays[0, n) (n <= kRays), each ray's
+  /// boxes in its own order, the rays that test the same entity next
+  /// tested together (four at once on a still sphere): the same finds, per
+  /// ray, as nearestBounded's. found[i]: whether ray i found anything.
+  void nearestInList(const FlatInstances &list, const Ray *rays, int n, Hit *hits,
+                     TriangleCandidate *best, bool *bestIsTriangle, double *tMax,
+                     uint8_t *found) const;
   /// The entities whose boxes any of rays[0, n) may cross, as `list` (what
   /// it held is dropped): only where the rays form a RayFan and at most
   /// FlatInstances::kMaxInstances of the scene's boxes (fanBoxes_) pass it;

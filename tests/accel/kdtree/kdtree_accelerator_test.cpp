@@ -222,6 +222,63 @@ TEST(KdTreeAccelerator, FewEntitiesAsAListMatchTheTreeWalk) {
   }
 }
 
+// A camera's rays into a list of a few entities (a pigments-like scene:
+// a floor, still spheres, two of them in the same place and one touching
+// another, a cube) go four at a time, each ray's boxes in its own order,
+// the rays that test the same sphere next tested together
+// (KdTreeAccelerator::nearestInList): the same hits as one ray at a time,
+// bit for bit, the coincident spheres' ties included, and for rays with a
+// direction component 0 too.
+TEST(KdTreeAccelerator, ACamerasRaysInFoursMatchSingleRays) {
+  Scene scene;
+  testing::addQuad(scene,
+                   {Vec3f(-100, 0, -100), Vec3f(-100, 0, 100), Vec3f(100, 0, 100),
+                    Vec3f(100, 0, -100)},
+                   0);
+  for (int i = 0; i < 4; ++i)
+    scene.entities.push_back(
+        shape(ShapeKind::Sphere, Transform::translate({2.2 * i - 3.3, 1, 0})));
+  scene.entities.push_back(shape(ShapeKind::Sphere, Transform::translate({-1.1, 1, 0})));
+  scene.entities.push_back(shape(ShapeKind::Sphere, Transform::translate({0.1, 0.5, -1.5}) *
+                                                        Transform::scale(0.5, 0.5, 0.5)));
+  scene.entities.push_back(shape(ShapeKind::Cube, Transform::translate({-2.5, 0.4, -3}) *
+                                                      Transform::scale(0.4, 0.4, 0.4)));
+  scene.textures.emplace_back();
+  scene.pigments.emplace_back();
+  ASSERT_LE(scene.entities.size(), FlatInstances::kMaxInstances);
+  KdTreeAccelerator accel(scene);
+  ASSERT_FALSE(accel.usesPackets());
+
+  // 128x72 camera rays from above the floor, looking down at the spheres;
+  // then rays along the axes (direction components 0).
+  std::vector<Ray> rays = cameraTiles(128, 72, {0, 3.2, -11}, 64, 20, 1);
+  for (int i = 0; i < 64; ++i) {
+    const double y = 0.05 * i;
+    rays.push_back({{-8, y, 0.02 * i}, {1, 0, 0}});
+    rays.push_back({{-1.1 + 0.01 * i, y, -8}, {0, 0, 2}});
+  }
+  std::vector<Hit> batch(rays.size());
+  std::vector<uint8_t> found(rays.size(), 9);
+  for (size_t first = 0; first < rays.size(); first += 256) {
+    const size_t count = std::min<size_t>(256, rays.size() - first);
+    accel.intersectCoherent(rays.data() + first, count, batch.data() + first,
+                            found.data() + first);
+  }
+  int byEntity[8] = {};
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    const bool f = accel.intersect(rays[i], single);
+    ASSERT_EQ(found[i], f ? 1 : 0) << i;
+    if (!f) continue;
+    testing::expectSameHit(batch[i], single);
+    ++byEntity[single.entity];
+  }
+  // The floor, every sphere (the coincident pair's ties go one way or the
+  // other, the same way in both walks) and the cube are hit.
+  for (int e : {0, 1, 3, 4, 6, 7}) EXPECT_GT(byEntity[e], 20) << e;
+  EXPECT_GT(byEntity[2] + byEntity[5], 100);
+}
+
 // A scene of more entities than the list takes but few enough for a fan
 // (ray_fan.h): a camera's runs of rays test only the entities their fan
 // may cross, and must find what single rays walking the top-level tree

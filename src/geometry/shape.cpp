@@ -344,17 +344,20 @@ bool occludedStillSphere(const Entity &entity, const Ray &worldRay, double tMax)
                           entity.worldFromObject.inverseMatrix(), worldRay, tMax);
 }
 
-uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
-                                   const Ray *const (&rays)[4], const double (&tMax)[4],
-                                   uint32_t open, Hit *const (&hits)[4]) {
-  // intersectAnalytic's steps lane by lane (sphere_lanes.h) up to the
-  // hit's t, then fillAnalytic's scalar code for each lane that hits.
-  // Sphere::missesLine (clearlyMissed) is left out: where it settles a
-  // line, the full test finds no hit either.
-  using lanes::Lanes;
-  const Sphere &sphere = *std::get_if<Sphere>(&entity.shape);
+namespace {
+
+/// intersectAnalytic's steps for a still sphere, lane by lane
+/// (sphere_lanes.h), up to the hit's t: the object rays, re-origined by
+/// `shift`, in `r`; bit k of the result set where lane k hits before
+/// tMax[k], its t in t[k]. Where Sphere::missesLine (clearlyMissed)
+/// settles every lane's line, none hits, as in the full test: a shaft's
+/// shadow rays past a sphere end there.
+[[gnu::always_inline]] inline uint32_t sphereLanes(const Entity &entity,
+                                                   const Ray *const (&rays)[4],
+                                                   const double (&tMax)[4], lanes::RayLanes &r,
+                                                   lanes::Lanes &shift, lanes::Lanes &t) {
   const auto &m = entity.worldFromObject.inverseMatrix().m;
-  lanes::RayLanes w, r;
+  lanes::RayLanes w;
   lanes::loadRays(rays, w);
   // objectRay: affinePoint and affineVector.
   r.ox = m[0][0] * w.ox + m[0][1] * w.oy + m[0][2] * w.oz + m[0][3];
@@ -363,13 +366,27 @@ uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
   r.dx = m[0][0] * w.dx + m[0][1] * w.dy + m[0][2] * w.dz;
   r.dy = m[1][0] * w.dx + m[1][1] * w.dy + m[1][2] * w.dz;
   r.dz = m[2][0] * w.dx + m[2][1] * w.dy + m[2][2] * w.dz;
+  if (sphere_lanes::missesLines(r) == 0xF) return 0;
   r.tMin = w.tMin;
   lanes::load(tMax, r.tMax);
-  const Lanes shift = sphere_lanes::originShift(r, kFarOrigin);
+  shift = sphere_lanes::originShift(r, kFarOrigin);
   sphere_lanes::reorigin(r, shift);
-  Lanes t;
+  return sphere_lanes::intersect(r, t);
+}
+
+} // namespace
+
+uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
+                                   const Ray *const (&rays)[4], const double (&tMax)[4],
+                                   uint32_t open, Hit *const (&hits)[4]) {
+  // The hit's t in lanes, then fillAnalytic's scalar code for each lane
+  // that hits.
+  const Sphere &sphere = *std::get_if<Sphere>(&entity.shape);
+  lanes::RayLanes r;
+  lanes::Lanes shift, t;
   uint32_t found = 0;
-  for (uint32_t left = sphere_lanes::intersect(r, t) & open; left != 0; left &= left - 1) {
+  for (uint32_t left = sphereLanes(entity, rays, tMax, r, shift, t) & open; left != 0;
+       left &= left - 1) {
     const int k = std::countr_zero(left);
     const Ray ray{{r.ox[k], r.oy[k], r.oz[k]}, {r.dx[k], r.dy[k], r.dz[k]}, r.tMin[k], r.tMax[k],
                   rays[k]->time};
@@ -381,6 +398,13 @@ uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
     found |= 1u << k;
   }
   return found;
+}
+
+uint32_t occludedStillSphereLanes(const Entity &entity, const Ray *const (&rays)[4],
+                                  const double (&tMax)[4]) {
+  lanes::RayLanes r;
+  lanes::Lanes shift, t;
+  return sphereLanes(entity, rays, tMax, r, shift, t);
 }
 
 int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift) {

@@ -50,6 +50,11 @@ uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
                                    const Ray *const (&rays)[4], const double (&tMax)[4],
                                    uint32_t open, Hit *const (&hits)[4]);
 
+/// occludedStillSphere of four rays at once: bit k set where rays[k] is
+/// blocked before tMax[k] (the same answers).
+uint32_t occludedStillSphereLanes(const Entity &entity, const Ray *const (&rays)[4],
+                                  const double (&tMax)[4]);
+
 /// Whether occludedStillSphere may test `entity`.
 inline bool isStillSphere(const Entity &entity) {
   return !entity.motion && std::holds_alternative<Sphere>(entity.shape);

@@ -249,7 +249,7 @@ void Integrator<Accel>::testShadowRays(const ShadowShafts::Candidates &candidate
                                        const Ray *rays, size_t n, bool coherent,
                                        uint8_t *blocked) const {
   if (candidates.direct) {
-    for (size_t k = 0; k < n; ++k) blocked[k] = shafts_.occluded(candidates, rays[k]);
+    shafts_.occluded(candidates, rays, n, blocked);
   } else if (coherent) {
     accel_.occludedCoherent(rays, n, blocked, nullptr);
   } else {
@@ -346,8 +346,12 @@ size_t Integrator<Accel>::markClearLanes(LightLanes &lanes, LaneSpan span,
     }
     counts.shadow += m;
     if (candidates.direct) {
-      for (size_t k = n; k < n + m; ++k)
-        clear[lanes.rayLane[k]] = !shafts_.occluded(candidates, rays[k]);
+      uint8_t blocked[16];
+      for (size_t first = n; first < n + m; first += 16) {
+        const size_t count = std::min<size_t>(16, n + m - first);
+        shafts_.occluded(candidates, rays + first, count, blocked);
+        for (size_t k = 0; k < count; ++k) clear[lanes.rayLane[first + k]] = !blocked[k];
+      }
       continue;
     }
     if (!lanes.anyOccluder) {

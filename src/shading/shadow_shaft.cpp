@@ -6,6 +6,7 @@
 #include "geometry/shape.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -150,6 +151,32 @@ bool ShadowShafts::occluded(const Candidates &c, const Ray &ray) const {
     if (occludedAnalytic((*entities_)[c.entity[i]], ray)) return true;
   }
   return false;
+}
+
+void ShadowShafts::occluded(const Candidates &c, const Ray *rays, size_t n,
+                            uint8_t *blocked) const {
+  for (size_t base = 0; base < n; base += 4) {
+    const size_t m = std::min<size_t>(4, n - base);
+    uint32_t open = (1u << m) - 1; // not yet blocked
+    const Ray *lane[4];
+    double tMax[4];
+    for (size_t k = 0; k < 4; ++k) {
+      lane[k] = &rays[base + (k < m ? k : 0)]; // past n: the first ray again
+      tMax[k] = lane[k]->tMax;
+    }
+    for (size_t i = 0; i < c.count && open != 0; ++i) {
+      const Entity &entity = (*entities_)[c.entity[i]];
+      if (isStillSphere(entity)) {
+        open &= ~occludedStillSphereLanes(entity, lane, tMax);
+        continue;
+      }
+      for (uint32_t left = open; left != 0; left &= left - 1) {
+        const int k = std::countr_zero(left);
+        if (occludedShape(entity, *lane[k])) open &= ~(1u << k);
+      }
+    }
+    for (size_t k = 0; k < m; ++k) blocked[base + k] = (open >> k & 1u) ? 0 : 1;
+  }
 }
 
 } // namespace lray

@@ -47,6 +47,9 @@ public:
   /// ray (a shadow ray's tMax of 1 is exact in float too), so the answer is
   /// theirs.
   bool occluded(const Candidates &c, const Ray &ray) const;
+  /// blocked[k] = occluded(c, rays[k]) for k < n: a still sphere's tests
+  /// four rays at once (occludedStillSphereLanes, the same answers).
+  void occluded(const Candidates &c, const Ray *rays, size_t n, uint8_t *blocked) const;
 
 private:
   struct HalfSpace {

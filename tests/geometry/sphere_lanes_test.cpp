@@ -1,6 +1,7 @@
-// intersectStillSphereLanes (src/geometry/shape.h, shapes/sphere_lanes.h):
-// four rays tested together against a still sphere give the hits that
-// intersectShape gives each of them, bit for bit.
+// intersectStillSphereLanes and occludedStillSphereLanes (src/geometry/
+// shape.h, shapes/sphere_lanes.h): four rays tested together against a
+// still sphere give the hits that intersectShape gives each of them, bit
+// for bit, and occludedStillSphere's answers.
 #include "geometry/shape.h"
 
 #include <gtest/gtest.h>
@@ -84,6 +85,7 @@ TEST(SphereLanes, FourRaysAreFourRays) {
       Hit got[4];
       Hit *const out[4] = {&got[0], &got[1], &got[2], &got[3]};
       const uint32_t found = intersectStillSphereLanes(e, 7, laneRays, tMax, open, out);
+      const uint32_t blocked = occludedStillSphereLanes(e, laneRays, tMax);
       EXPECT_EQ(found & ~open, 0u);
       for (int k = 0; k < 4; ++k) {
         if (!(open >> k & 1u)) continue;
@@ -93,6 +95,7 @@ TEST(SphereLanes, FourRaysAreFourRays) {
         const std::string where = "placement " + std::to_string(p) + " group " +
                                   std::to_string(group) + " lane " + std::to_string(k);
         ASSERT_EQ(bool(found >> k & 1u), hit) << where;
+        ASSERT_EQ(bool(blocked >> k & 1u), occludedStillSphere(e, rays[k], tMax[k])) << where;
         if (!hit) {
           ++misses;
           continue;

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace lray {
 namespace {
 
@@ -32,6 +34,52 @@ TEST(ShadowShaft, MeetsABoxBetweenTheEndsAndNotOneBesideOrBeyond) {
   EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(4.5, 10, 4.5, 6, 11, 6)));
   // A box enclosing everything.
   EXPECT_TRUE(shaftMeetsBox(floorTile, light, box(-100, -100, -100, 100, 100, 100)));
+}
+
+// A batch of shadow rays against a shaft's candidates, a still sphere's
+// tests four rays at once (occludedStillSphereLanes): every ray's answer is
+// the one-ray test's, at every batch length, with spheres, a stretched
+// sphere, a cube and a torus among the candidates.
+TEST(ShadowShaft, ABatchOfRaysGetsEachRaysAnswer) {
+  Scene scene;
+  auto add = [&](Shape shape, const Transform &xf) {
+    Entity e;
+    e.shape = shape;
+    e.worldFromObject = xf;
+    scene.entities.push_back(e);
+  };
+  add(Sphere{}, Transform::translate({-1.5, 2, 0}));
+  add(Sphere{}, Transform::translate({1.5, 2.5, 0.5}) * Transform::scale(0.5, 1.5, 0.8));
+  add(Cube{}, Transform::translate({0, 3, -1.5}) * Transform::scale(0.6, 0.6, 0.6));
+  add(Torus{}, Transform::translate({0.5, 1.5, 1.5}) * Transform::scale(0.7, 0.7, 0.7));
+  const ShadowShafts shafts(scene);
+  ShadowShafts::Candidates c;
+  c.direct = true;
+  c.count = 4;
+  for (uint32_t i = 0; i < 4; ++i) c.entity[i] = i;
+
+  std::mt19937_64 rng(34);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 600; ++i) {
+    const Vec3 from{3 * u(rng), 0, 3 * u(rng)}, to{2 * u(rng), 6, 2 * u(rng)};
+    rays.push_back({from, to - from, 0, i % 9 == 0 ? 0.4 : 1.0});
+  }
+  int blockedCount = 0;
+  size_t first = 0;
+  for (size_t n : {1u, 2u, 3u, 4u, 5u, 7u, 8u, 13u, 64u, 493u}) {
+    ASSERT_LE(first + n, rays.size());
+    std::vector<uint8_t> blocked(n, 9);
+    shafts.occluded(c, rays.data() + first, n, blocked.data());
+    for (size_t k = 0; k < n; ++k) {
+      const bool one = shafts.occluded(c, rays[first + k]);
+      ASSERT_EQ(blocked[k], one ? 1 : 0) << first + k;
+      blockedCount += one;
+    }
+    first += n;
+  }
+  EXPECT_GT(blockedCount, 100);
+  EXPECT_LT(blockedCount, 500);
 }
 
 // The area-light scene of the gallery on a Floor() mesh, a second point

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "geometry/shapes/object_space.h"
+#include "geometry/shapes/sphere.h"
 #include "math/lanes.h"
 #include "math/ray_lanes.h"
 
@@ -30,6 +31,18 @@ using lanes::RayLanes;
   Lanes out;
   std::memcpy(&out, &xb, sizeof out);
   return out;
+}
+
+/// Sphere::missesLine of each lane's ray (object space, before the shift):
+/// bit k set where the line of lane k passes the sphere by a clear margin,
+/// so that intersect() finds no hit there either.
+[[gnu::always_inline]] inline uint32_t missesLines(const RayLanes &r) {
+  using namespace sphere_detail;
+  const Lanes a = r.dx * r.dx + r.dy * r.dy + r.dz * r.dz;
+  const Lanes h = r.ox * r.dx + r.oy * r.dy + r.oz * r.dz;
+  const Lanes oo = r.ox * r.ox + r.oy * r.oy + r.oz * r.oz;
+  return lanes::bits((oo < kMaxPrefilteredOrigin * kMaxPrefilteredOrigin) &
+                     (oo * a - h * h > a * (1 + kClearMargin) + 1e-12 * oo * a));
 }
 
 /// closestApproachShift(ray, {}, farOrigin) of each lane's ray.

@@ -80,6 +80,30 @@ std::vector<Ray> cameraTiles(int width, int height, const Vec3 &eye, int cx, int
   return rays;
 }
 
+/// intersectCoherent of `rays` in runs of 256 (a tile's), each ray's find
+/// checked against intersect()'s, bit for bit: per ray the entity it hit,
+/// or -1.
+std::vector<int> coherentMatchesSingle(const KdTreeAccelerator &accel,
+                                       const std::vector<Ray> &rays) {
+  std::vector<Hit> batch(rays.size());
+  std::vector<uint8_t> found(rays.size(), 9);
+  for (size_t first = 0; first < rays.size(); first += 256) {
+    const size_t count = std::min<size_t>(256, rays.size() - first);
+    accel.intersectCoherent(rays.data() + first, count, batch.data() + first,
+                            found.data() + first);
+  }
+  std::vector<int> entity(rays.size(), -1);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    const bool f = accel.intersect(rays[i], single);
+    EXPECT_EQ(found[i], f ? 1 : 0) << i;
+    if (!f || found[i] != 1) continue;
+    testing::expectSameHit(batch[i], single);
+    entity[i] = static_cast<int>(single.entity);
+  }
+  return entity;
+}
+
 Scene mixedScene() {
   Scene scene;
   MeshDataPtr ball = kdtest::makeJitteredSphere(12, 24, 0.1, 1);
@@ -257,22 +281,9 @@ TEST(KdTreeAccelerator, ACamerasRaysInFoursMatchSingleRays) {
     rays.push_back({{-8, y, 0.02 * i}, {1, 0, 0}});
     rays.push_back({{-1.1 + 0.01 * i, y, -8}, {0, 0, 2}});
   }
-  std::vector<Hit> batch(rays.size());
-  std::vector<uint8_t> found(rays.size(), 9);
-  for (size_t first = 0; first < rays.size(); first += 256) {
-    const size_t count = std::min<size_t>(256, rays.size() - first);
-    accel.intersectCoherent(rays.data() + first, count, batch.data() + first,
-                            found.data() + first);
-  }
   int byEntity[8] = {};
-  for (size_t i = 0; i < rays.size(); ++i) {
-    Hit single;
-    const bool f = accel.intersect(rays[i], single);
-    ASSERT_EQ(found[i], f ? 1 : 0) << i;
-    if (!f) continue;
-    testing::expectSameHit(batch[i], single);
-    ++byEntity[single.entity];
-  }
+  for (const int e : coherentMatchesSingle(accel, rays))
+    if (e >= 0) ++byEntity[e];
   // The floor, every sphere (the coincident pair's ties go one way or the
   // other, the same way in both walks) and the cube are hit.
   for (int e : {0, 1, 3, 4, 6, 7}) EXPECT_GT(byEntity[e], 20) << e;
@@ -304,19 +315,11 @@ TEST(KdTreeAccelerator, CameraRunsCulledByTheirFanMatchSingleRays) {
   // 96x64 camera rays from z = -8; the middle tiles' rays change the sign
   // of x or y.
   std::vector<Ray> rays = cameraTiles(96, 64, {0.1, 0.2, -8}, 50, 30, 1);
-  std::vector<Hit> batch(rays.size());
-  std::vector<uint8_t> found(rays.size(), 9);
-  for (size_t first = 0; first < rays.size(); first += 256)
-    accel.intersectCoherent(rays.data() + first, 256, batch.data() + first, found.data() + first);
   int hits = 0, meshHits = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    Hit single;
-    const bool f = accel.intersect(rays[i], single);
-    ASSERT_EQ(found[i], f ? 1 : 0) << i;
-    if (!f) continue;
-    testing::expectSameHit(batch[i], single);
+  for (const int e : coherentMatchesSingle(accel, rays)) {
+    if (e < 0) continue;
     ++hits;
-    meshHits += single.entity == 20;
+    meshHits += e == 20;
   }
   EXPECT_GT(hits, 1000);
   EXPECT_GT(meshHits, 50);

@@ -99,12 +99,20 @@ inline void SparseCentres::fillOrTrace(int x, int y, const int (*d)[2], int leas
   int at[4];    // the slots of the known neighbours, in d's order
   int slots[4]; // per offset, its neighbour's slot, or -1
   int n = 0;
-  for (int k = 0; k < 4; ++k) {
-    const int nx = x + d[k][0], ny = y + d[k][1];
-    const bool known = nx >= 0 && ny >= 0 && nx < spanX_ && ny < spanY_ &&
-                       state_[slot(nx, ny)] != kUnknown;
-    slots[k] = known ? slot(nx, ny) : -1;
-    if (known) at[n++] = slots[k];
+  if (x >= 1 && y >= 1 && x + 1 < width_ && y + 1 < height_) {
+    // Inside the tile (most pixels): every neighbour is known, traced in
+    // round 0 (the even pixels of even rows) or settled in round 1 (the
+    // odd pixels of odd rows; next() goes round by round).
+    for (int k = 0; k < 4; ++k) at[k] = slots[k] = slot(x + d[k][0], y + d[k][1]);
+    n = 4;
+  } else {
+    for (int k = 0; k < 4; ++k) {
+      const int nx = x + d[k][0], ny = y + d[k][1];
+      const bool known = nx >= 0 && ny >= 0 && nx < spanX_ && ny < spanY_ &&
+                         state_[slot(nx, ny)] != kUnknown;
+      slots[k] = known ? slot(nx, ny) : -1;
+      if (known) at[n++] = slots[k];
+    }
   }
   const double contrast =
       n >= least ? contrastOf(n, [&](int k) -> const Color & { return value_[at[k]]; }) : 1e300;

@@ -78,10 +78,11 @@ public:
     return Start::Boxes;
   }
 
-  /// start() of four rays at once (rays[k], k in `open`; the others read
-  /// any ray): the rays' fields in lanes, each box's slab test of the four
-  /// (the same operations, lane by lane: the same entries and answers). A
-  /// ray with a direction component 0 takes start() alone.
+  /// start() of four rays at once, each with tBest its own tMax (rays[k],
+  /// k in `open`; the others read any ray): the rays' fields in lanes,
+  /// each box's slab test of the four (the same operations, lane by lane:
+  /// the same entries and answers). A ray with a direction component 0
+  /// takes start() alone.
   static constexpr int kRays = packet_lanes::kWidth;
   [[gnu::always_inline]] void start(const Ray *const (&rays)[kRays], uint32_t open,
                                     Walk (&walks)[kRays], Start (&how)[kRays]) const {

@@ -431,6 +431,36 @@ KdTreeAccelerator::nearestBounded(const Ray &ray, Hit &hit, TriangleCandidate &b
                });
 }
 
+uint32_t KdTreeAccelerator::nearestInStillSphere(const Instance &inst, const Ray *rays,
+                                                uint32_t in, double *tBest, Hit *hits) const {
+  // Its bound first (passesStillSphere lane by lane), then the four rays'
+  // test (intersectStillSphereLanes). Lanes outside `in` read its first
+  // ray.
+  const Ray *laneRays[kRays];
+  double bound[kRays];
+  const int first = std::countr_zero(in);
+  for (int i = 0; i < kRays; ++i) {
+    const int r = (in >> i & 1u) ? i : first;
+    laneRays[i] = &rays[r];
+    bound[i] = tBest[r];
+  }
+  in &= ~sphereBounds_[inst.transform].missesLines(laneRays);
+  if (in == 0) return 0;
+  Hit got[kRays];
+  Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
+  uint32_t found = 0;
+  for (uint32_t hit = intersectStillSphereLanes(scene_.entities[inst.entity], inst.entity,
+                                                laneRays, bound, in, out);
+       hit != 0; hit &= hit - 1) {
+    const int i = std::countr_zero(hit);
+    if (!(got[i].t < tBest[i])) continue;
+    hits[i] = got[i];
+    tBest[i] = got[i].t;
+    found |= 1u << i;
+  }
+  return found;
+}
+
 void KdTreeAccelerator::nearestInList(const FlatInstances &list, const Ray *rays, int n,
                                       Hit *hits, TriangleCandidate *best, bool *bestIsTriangle,
                                       double *tMax, uint8_t *found) const {
@@ -473,29 +503,10 @@ void KdTreeAccelerator::nearestInList(const FlatInstances &list, const Ray *rays
       const Instance &inst = instances_[prim];
       if (inst.meshTree == kAnalytic && inst.transform != kIdentity &&
           !moving_.moves(inst.entity) && (same & (same - 1)) != 0) {
-        // A still sphere met by several rays: four at once
-        // (intersectStillSphereLanes), after its bound (passesStillSphere
-        // lane by lane). Lanes outside `same` read its first ray.
-        const Ray *laneRays[kRays];
-        double bound[kRays];
-        const int first = std::countr_zero(same);
-        for (int k = 0; k < kRays; ++k) {
-          const int i = k < n && (same >> k & 1u) ? k : first;
-          laneRays[k] = &rays[i];
-          bound[k] = tMax[i];
-        }
-        same &= ~sphereBounds_[inst.transform].missesLines(laneRays);
-        Hit got[kRays];
-        Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
-        for (uint32_t hit = same == 0 ? 0
-                                      : intersectStillSphereLanes(scene_.entities[inst.entity],
-                                                                  inst.entity, laneRays, bound,
-                                                                  same, out);
-             hit != 0; hit &= hit - 1) {
+        // A still sphere met by several rays: four at once.
+        for (uint32_t hit = nearestInStillSphere(inst, rays, same, tMax, hits); hit != 0;
+             hit &= hit - 1) {
           const int i = std::countr_zero(hit);
-          if (!(got[i].t < tMax[i])) continue;
-          hits[i] = got[i];
-          tMax[i] = got[i].t;
           bestIsTriangle[i] = false;
           found[i] = 1;
         }
@@ -599,30 +610,8 @@ uint32_t KdTreeAccelerator::packetQuery(const Ray *rays, uint32_t lanes, double 
       const bool stillSphere = inst.transform != kIdentity;
       if (AnyHit && stillSphere) in &= ~sphereBounds_[inst.transform].missesLines(rayLanes);
       if (!AnyHit && stillSphere && in != 0) {
-        // The lanes' rays tested together (intersectStillSphereLanes): the
-        // same hits as one lane at a time. (Lanes outside `in` read the
-        // first lane's ray.)
-        const Ray *laneRays[kRays];
-        double bound[kRays];
-        const int first = std::countr_zero(in);
-        for (int i = 0; i < kRays; ++i) {
-          laneRays[i] = &rays[(in >> i & 1u) ? i : first];
-          bound[i] = tBest[i];
-        }
-        in &= ~sphereBounds_[inst.transform].missesLines(laneRays);
-        if (in == 0) return found;
-        Hit got[kRays];
-        Hit *const out[kRays] = {&got[0], &got[1], &got[2], &got[3]};
-        for (uint32_t hit =
-                 intersectStillSphereLanes(entity, inst.entity, laneRays, bound, in, out);
-             hit != 0; hit &= hit - 1) {
-          const int i = std::countr_zero(hit);
-          if (!(got[i].t < tBest[i])) continue;
-          finds->shapeHits[i] = got[i];
-          tBest[i] = got[i].t;
-          finds->triangleLanes &= ~(1u << i);
-          found |= 1u << i;
-        }
+        found = nearestInStillSphere(inst, rays, in, tBest, finds->shapeHits);
+        finds->triangleLanes &= ~found;
         return found;
       }
       for (; in != 0; in &= in - 1) {

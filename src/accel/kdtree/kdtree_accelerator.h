@@ -166,6 +166,12 @@ private:
   template <KdRays Rays>
   bool nearestInstance(uint32_t prim, const Ray &ray, double &tBest, Hit &hit,
                        TriangleCandidate &best, bool &bestIsTriangle) const;
+  /// Still sphere `inst` (isStillSphere) against rays[i], i in `in`, four
+  /// at once: where one finds a hit before tBest[i], hits[i] takes it and
+  /// tBest[i] its t (the same as nearestInstance one ray at a time); the
+  /// lanes that did.
+  uint32_t nearestInStillSphere(const Instance &inst, const Ray *rays, uint32_t in,
+                                double *tBest, Hit *hits) const;
   /// nearestBounded over `list` for rays[0, n) (n <= kRays), each ray's
   /// boxes in its own order, the rays that test the same entity next
   /// tested together (four at once on a still sphere): the same finds, per

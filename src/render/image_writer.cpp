@@ -31,25 +31,6 @@ std::string formatExtension(ImageFormat format) {
   return "png";
 }
 
-namespace {
-
-/// `value` clamped to [0, 1], NaN as 0.
-inline float unitClamp(float value) {
-  return std::isnan(value) ? 0.f : std::clamp(value, 0.f, 1.f);
-}
-
-/// v in [0, 1] times 255, rounded half away from zero as std::lround does,
-/// without its call (a tenth of a light animation's time went to it): for
-/// x in [0, 255], x - trunc(x) is exact (Sterbenz), so the test against 0.5
-/// is too. Inline and branch-free, so that a frame's loop is vectorized.
-inline uint8_t round255(float v) {
-  const float x = v * 255.f;
-  const int whole = static_cast<int>(x);
-  return static_cast<uint8_t>(whole + (x - static_cast<float>(whole) >= 0.5f ? 1 : 0));
-}
-
-} // namespace
-
 uint8_t quantize8(float value, bool srgb) {
   return srgb ? srgbByte(value) : round255(unitClamp(value));
 }

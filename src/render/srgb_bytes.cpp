@@ -15,14 +15,6 @@ constexpr uint32_t kOneBits = 0x3F800000; // 1.0f
 /// right (16,257 entries; within one, the byte rises by at most about 0.9).
 constexpr int kShift = 16;
 
-/// v in [0, 1] times 255, rounded half away from zero (image_writer.cpp's
-/// round255: x - trunc(x) is exact for x in [0, 255]).
-uint8_t round255(float v) {
-  const float x = v * 255.f;
-  const int whole = static_cast<int>(x);
-  return static_cast<uint8_t>(whole + (x - static_cast<float>(whole) >= 0.5f ? 1 : 0));
-}
-
 /// The bits of `value` clamped to [0, 1], NaN and -0 as 0.
 uint32_t unitBits(float value) {
   if (!(value > 0.f)) return 0; // NaN, negative, -0
@@ -71,7 +63,7 @@ const Table &table() {
 } // namespace
 
 uint8_t srgbByteExact(float value) {
-  float v = std::isnan(value) ? 0.f : std::clamp(value, 0.f, 1.f);
+  float v = unitClamp(value);
   v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
   return round255(std::clamp(v, 0.f, 1.f));
 }

@@ -146,13 +146,6 @@ ShadowShafts::Candidates ShadowShafts::candidates(const Bounds3 &origins,
   return c;
 }
 
-bool ShadowShafts::occluded(const Candidates &c, const Ray &ray) const {
-  for (size_t i = 0; i < c.count; ++i) {
-    if (occludedAnalytic((*entities_)[c.entity[i]], ray)) return true;
-  }
-  return false;
-}
-
 void ShadowShafts::occluded(const Candidates &c, const Ray *rays, size_t n,
                             uint8_t *blocked) const {
   for (size_t base = 0; base < n; base += 4) {

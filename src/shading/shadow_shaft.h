@@ -42,13 +42,11 @@ public:
     return candidates(origins, targets).clear;
   }
 
-  /// Whether one of `c`'s entities blocks `ray` (c.direct): the same
-  /// occludedShape both backends call for an analytic shape, with the same
-  /// ray (a shadow ray's tMax of 1 is exact in float too), so the answer is
-  /// theirs.
-  bool occluded(const Candidates &c, const Ray &ray) const;
-  /// blocked[k] = occluded(c, rays[k]) for k < n: a still sphere's tests
-  /// four rays at once (occludedStillSphereLanes, the same answers).
+  /// blocked[k]: whether one of `c`'s entities blocks rays[k] (c.direct),
+  /// for k < n: the same test both backends call for an analytic shape
+  /// (occludedAnalytic), with the same ray (a shadow ray's tMax of 1 is
+  /// exact in float too), so the answer is theirs; a still sphere's four
+  /// rays at once (occludedStillSphereLanes, the same answers).
   void occluded(const Candidates &c, const Ray *rays, size_t n, uint8_t *blocked) const;
 
 private:

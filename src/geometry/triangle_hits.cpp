@@ -106,19 +106,28 @@ const Vec3f kNoNormal{0, 0, 0};
 
 /// Up to kLanes queries of identity-placed meshes, frame at the world
 /// origin: fillTriangleHit's identity path with frameOrigin = 0, lane-wise.
-/// Unused lanes repeat lane 0 and are not stored.
+/// Unused lanes repeat lane 0 and are not stored. kOneTriangle: every lane
+/// hit the same triangle of the same mesh (a floor's packet, most often),
+/// whose corners, normals and uvs are then read once for all lanes: the
+/// same values, so the same bits.
+template <bool kOneTriangle>
 [[gnu::always_inline]] inline void fillLanes(const TriangleHitQuery *const *queries, int count) {
   const TriangleHitQuery *q[kLanes];
   LaneCorners c[kLanes];
   for (int i = 0; i < kLanes; ++i) {
     q[i] = queries[i < count ? i : 0];
-    c[i] = laneCorners(*q[i]);
+    if (!kOneTriangle || i == 0) c[i] = laneCorners(*q[i]);
   }
   auto gather = [&](auto field) {
     return Lanes{field(0), field(1), field(2), field(3)};
   };
   // Corner k's position (or vertex normal) in every lane.
   auto corner = [&](bool normal, int k) {
+    if constexpr (kOneTriangle) {
+      const Vec3f &v = *(normal ? c[0].n[k] : c[0].p[k]);
+      const double x = v.x, y = v.y, z = v.z;
+      return Lanes3{Lanes{x, x, x, x}, Lanes{y, y, y, y}, Lanes{z, z, z, z}};
+    }
     auto at = [&](int i) { return normal ? c[i].n[k] : c[i].p[k]; };
     return Lanes3{gather([&](int i) { return double(at(i)->x); }),
                   gather([&](int i) { return double(at(i)->y); }),
@@ -169,8 +178,9 @@ const Vec3f kNoNormal{0, 0, 0};
   Lanes3 ng = cross(e1, e2);
   // A mesh without normals gives every lane the zero vector: nw is 0 (or
   // -0), no lane has a normal, and the gathers are left out.
-  bool anyNormals = false;
-  for (int i = 0; i < kLanes; ++i) anyNormals |= c[i].n[0] != &kNoNormal;
+  bool anyNormals = c[0].n[0] != &kNoNormal;
+  if constexpr (!kOneTriangle)
+    for (int i = 1; i < kLanes; ++i) anyNormals |= c[i].n[0] != &kNoNormal;
   Lanes3 nw{zero, zero, zero};
   if (anyNormals) nw = corner(true, 0) * b0 + corner(true, 1) * b1 + corner(true, 2) * b2;
   Lanes nwLen2 = dot(nw, nw);
@@ -204,6 +214,17 @@ const Vec3f kNoNormal{0, 0, 0};
   Lanes eObject = keps * (magnitude + scale + magnitude);
   Lanes pError = eObject + keps * magnitude;
 
+  // The uvs: lane-wise from one triangle's corners (each lane's sums in
+  // the scalar order below), else lane by lane.
+  const int32_t *oneUv = c[0].uv;
+  const bool uvLanes = kOneTriangle && oneUv && oneUv[0] >= 0 && oneUv[1] >= 0 && oneUv[2] >= 0;
+  Lanes hu = b1, hv = b2;
+  if (uvLanes) {
+    const MeshData &mesh = *q[0]->entity->mesh;
+    const Vec2f &t0 = mesh.uvs[oneUv[0]], &t1 = mesh.uvs[oneUv[1]], &t2 = mesh.uvs[oneUv[2]];
+    hu = b0 * double(t0.u) + b1 * double(t1.u) + b2 * double(t2.u);
+    hv = b0 * double(t0.v) + b1 * double(t1.v) + b2 * double(t2.v);
+  }
   for (int i = 0; i < count; ++i) {
     Hit &hit = *q[i]->hit;
     hit.t = t[i];
@@ -214,27 +235,41 @@ const Vec3f kNoNormal{0, 0, 0};
     hit.p = hit.pObject;
     hit.ng = {ng.x[i], ng.y[i], ng.z[i]};
     hit.ns = {ns.x[i], ns.y[i], ns.z[i]};
-    const int32_t *uv = c[i].uv;
-    if (uv && uv[0] >= 0 && uv[1] >= 0 && uv[2] >= 0) {
+    const int32_t *uv = c[kOneTriangle ? 0 : i].uv;
+    if (kOneTriangle || !(uv && uv[0] >= 0 && uv[1] >= 0 && uv[2] >= 0)) {
+      hit.u = hu[i];
+      hit.v = hv[i];
+    } else {
       const MeshData &mesh = *q[i]->entity->mesh;
       const Vec2f &t0 = mesh.uvs[uv[0]], &t1 = mesh.uvs[uv[1]], &t2 = mesh.uvs[uv[2]];
       hit.u = b0[i] * t0.u + b1[i] * t1.u + b2[i] * t2.u;
       hit.v = b0[i] * t0.v + b1[i] * t1.v + b2[i] * t2.v;
-    } else {
-      hit.u = b1[i];
-      hit.v = b2[i];
     }
     hit.pError = pError[i];
   }
 }
 
+/// Whether the first `count` queries hit one triangle of one mesh.
+bool oneTriangle(const TriangleHitQuery *const *queries, int count) {
+  for (int i = 1; i < count; ++i)
+    if (queries[i]->triangle != queries[0]->triangle || queries[i]->entity != queries[0]->entity)
+      return false;
+  return true;
+}
+
 void fillLanesBaseline(const TriangleHitQuery *const *queries, int count) {
-  fillLanes(queries, count);
+  if (oneTriangle(queries, count))
+    fillLanes<true>(queries, count);
+  else
+    fillLanes<false>(queries, count);
 }
 
 __attribute__((target("avx2"))) void fillLanesAvx2(const TriangleHitQuery *const *queries,
                                                    int count) {
-  fillLanes(queries, count);
+  if (oneTriangle(queries, count))
+    fillLanes<true>(queries, count);
+  else
+    fillLanes<false>(queries, count);
 }
 
 } // namespace

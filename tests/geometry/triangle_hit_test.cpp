@@ -299,6 +299,7 @@ std::shared_ptr<MeshData> randomMesh(std::mt19937_64 &rng, int kind, double scal
   const int vertices = 40, triangles = 120;
   for (int i = 0; i < vertices; ++i)
     m->positions.push_back(toVec3f({coord(rng), coord(rng), coord(rng)}));
+  for (int i = 0; i < vertices; i += 7) m->positions[i].y = -0.0f; // a zero's sign kept
   for (int i = 0; i < vertices; ++i) {
     if (kind == 3) m->normals.push_back({0, 0, 0});
     else if (kind != 2) m->normals.push_back(toVec3f({unit(rng), unit(rng), unit(rng)}));
@@ -343,14 +344,19 @@ TEST(FillTriangleHits, BatchesMatchTheScalarFillBitForBit) {
         std::vector<Entity> entities{meshEntity(mesh, Transform(), true),
                                      meshEntity(mesh, Transform(), false),
                                      meshEntity(mesh, moved, true)};
-        for (const Vec3 &frame : {kWorldOrigin, Vec3(1e3, -2e3, 5e2)}) {
+        for (int variant = 0; variant < 4; ++variant) {
+          const Vec3 frame = variant % 2 ? Vec3(1e3, -2e3, 5e2) : kWorldOrigin;
+          // run 4: four queries in a row on one triangle of one mesh (a
+          // floor's packet), whose corners the lanes read once.
+          const int run = variant < 2 ? 1 : 4;
           const int n = 2000;
           std::vector<Ray> rays(n);
           std::vector<TriangleHitQuery> queries(n);
           std::vector<Hit> batch(n), scalar(n);
           for (int i = 0; i < n; ++i) {
-            const uint32_t e = static_cast<uint32_t>(i % 7 == 0 ? 2 : i % 2);
-            const uint32_t tri = static_cast<uint32_t>(i * 37 % mesh->triangles.size());
+            const int group = i / run;
+            const uint32_t e = static_cast<uint32_t>(run > 1 ? group % 2 : i % 7 == 0 ? 2 : i % 2);
+            const uint32_t tri = static_cast<uint32_t>(group * 37 % mesh->triangles.size());
             const uint32_t *v = &mesh->triangleIndices[3 * tri];
             const Vec3 p0 = toVec3(mesh->positions[v[0]]), p1 = toVec3(mesh->positions[v[1]]),
                        p2 = toVec3(mesh->positions[v[2]]);

@@ -87,6 +87,8 @@ struct FrameSeeds {
 /// same for every integrator and backend.
 struct TileWork {
   std::array<Ray, kTilePixels> rays;
+  /// Image positions of the rays to generate (CameraRays::generateMany).
+  std::array<double, kTilePixels> px, py;
   std::array<Hit, kTilePixels> hits;
   std::array<uint8_t, kTilePixels> found;
   std::array<Sampler, kTilePixels> samplers;
@@ -193,14 +195,17 @@ void sampleCentres(const Accel &accel, const Integ &integrator, const CameraRays
     if (path) sampler.stratify(0, mix64(seeds.pattern ^ pixel));
     if (spreadLight) sampler.lightStratum = static_cast<uint32_t>(mix64(seeds.stratum ^ pixel) >> 32);
     const double px = x + 0.5, py = y + 0.5;
-    if (pinhole) [[likely]]
-      work.rays[rays] = camera.generate(px, py);
-    else
+    if (pinhole) [[likely]] {
+      work.px[rays] = px;
+      work.py[rays] = py;
+    } else {
       work.rays[rays] = tile_detail::lensOrTimedRay(camera, mix64(seeds.lens ^ pixel),
                                                     mix64(seeds.time ^ pixel), 0, px, py, sampler);
+    }
     work.pixelOf[rays++] = static_cast<uint16_t>(i);
   });
   if (rays == 0) return;
+  if (pinhole) camera.generateMany(work.px.data(), work.py.data(), rays, work.rays.data());
   tile_detail::traceCameraRays(accel, integrator, work, rays, counts);
   for (size_t j = 0; j < rays; ++j) {
     // Color() + c, not c: the sum of one sample, as sampleTile's (-0 becomes +0).
@@ -302,6 +307,16 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
           scrambles.set(l, {work.shuffle[lane[l]], work.sx[lane[l]], work.sy[lane[l]]});
         owenSobol2DLanes(reversedS, scrambles.rows(), lanes, u, v);
       }
+      // A pinhole's rays for the lanes at once, where they fit the batch.
+      const bool pinhole = !camera.hasLens() && !camera.timed();
+      const bool together = pinhole && rays + lanes <= tile_detail::kTilePixels;
+      if (together) {
+        for (size_t l = 0; l < lanes; ++l) {
+          work.px[l] = work.x[lane[l]] + u[l];
+          work.py[l] = work.y[lane[l]] + v[l];
+        }
+        camera.generateMany(work.px.data(), work.py.data(), lanes, &work.rays[rays]);
+      }
       for (size_t l = 0; l < lanes; ++l) {
         const size_t i = lane[l];
         Sampler &sampler = work.samplers[rays];
@@ -311,10 +326,10 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
         if (spreadLight)
           sampler.lightStratum = (pairedStrata ? s >> 1 : s) + work.stratumOffset[i];
         const double px = work.x[i] + u[l], py = work.y[i] + v[l];
-        if (camera.hasLens() || camera.timed()) [[unlikely]]
+        if (!pinhole) [[unlikely]]
           work.rays[rays] = tile_detail::lensOrTimedRay(camera, work.lensPattern[i],
                                                         work.timePattern[i], s, px, py, sampler);
-        else
+        else if (!together)
           work.rays[rays] = camera.generate(px, py);
         work.pixelOf[rays] = static_cast<uint16_t>(i);
         if (++rays == tile_detail::kTilePixels) trace();
@@ -358,10 +373,12 @@ void refineTile(const Accel &accel, const Integ &integrator, const CameraRays &c
       const size_t n = std::min<size_t>(tile_detail::kTilePixels, points.size() - k);
       for (size_t j = 0; j < n; ++j) {
         const PixelLattice::Point &q = points[k + j];
-        work.rays[j] = camera.generate(rect.x0 + q.i * step, rect.y0 + q.j * step);
+        work.px[j] = rect.x0 + q.i * step;
+        work.py[j] = rect.y0 + q.j * step;
         work.samplers[j] =
             Sampler(Sampler::pixelKeyOf(frameKey, (y0 + q.j) * frameSide + x0 + q.i), 0);
       }
+      camera.generateMany(work.px.data(), work.py.data(), n, work.rays.data());
       tile_detail::traceCameraRays(accel, integrator, work, n, counts);
       for (size_t j = 0; j < n; ++j) lattice.set(points[k + j], work.colors[j]);
     }
@@ -395,10 +412,12 @@ void sparseCentreTile(const Accel &accel, const Integ &integrator, const CameraR
       const size_t n = std::min<size_t>(tile_detail::kTilePixels, points.size() - k);
       for (size_t j = 0; j < n; ++j) {
         const int x = rect.x0 + points[k + j].x, y = rect.y0 + points[k + j].y;
-        work.rays[j] = camera.generate(x + 0.5, y + 0.5);
+        work.px[j] = x + 0.5;
+        work.py[j] = y + 0.5;
         const uint64_t pixel = static_cast<uint64_t>(y) * settings.width + x;
         work.samplers[j] = Sampler(Sampler::pixelKeyOf(key, pixel), 0);
       }
+      camera.generateMany(work.px.data(), work.py.data(), n, work.rays.data());
       tile_detail::traceCameraRays(accel, integrator, work, n, counts);
       for (size_t j = 0; j < n; ++j) sparse.set(points[k + j], work.colors[j]);
     }

@@ -83,7 +83,18 @@ private:
     const lanes::Lanes dx = m[0][0] * cx + m[0][1] * cy + m[0][2];
     const lanes::Lanes dy = m[1][0] * cx + m[1][1] * cy + m[1][2];
     const lanes::Lanes dz = m[2][0] * cx + m[2][1] * cy + m[2][2];
-    for (int k = 0; k < lanes::kWidth; ++k) out[k] = {origin_, {dx[k], dy[k], dz[k]}, 0, kInf, 0};
+    // Field by field: a whole Ray built first went through the stack,
+    // stored in pieces and read back at once, stalling on each.
+    for (int k = 0; k < lanes::kWidth; ++k) {
+      Ray &r = out[k];
+      r.o = origin_;
+      r.d.x = dx[k];
+      r.d.y = dy[k];
+      r.d.z = dz[k];
+      r.tMin = 0;
+      r.tMax = kInf;
+      r.time = 0;
+    }
   }
 
   /// A moving camera's placement (Camera::motion) at kTableSteps + 1 even

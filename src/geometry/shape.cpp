@@ -125,32 +125,38 @@ template <class S>
 
 /// The hit of an object-space test's result `oh` on `ray` (the shifted
 /// object ray of `worldRay`, re-origined by `shift`), before `tMax`; its
-/// (u, v) as Entity::readsUv says (`uv`).
+/// (u, v) as Entity::readsUv says (`uv`). `hit` is written only when it
+/// returns true (a caller's best hit so far may be passed), and at the
+/// end, field by field: a hit stored in pieces and then copied whole went
+/// through a store-forwarding stall.
 template <class S>
 bool fillAnalytic(const S &shape, const Transform &xf, uint32_t entityIndex, const Ray &worldRay,
                   double tMax, bool uv, const Ray &ray, double shift, const ObjectHit &oh,
                   Hit &hit) {
-  ObjectSurface s = surfaceOf(shape, ray, oh, uv);
-  hit.t = oh.t + shift;
-  hit.time = worldRay.time;
-  hit.entity = entityIndex;
-  hit.primitive = 0;
-  hit.pObject = s.p;
-  hit.p = affinePoint(xf.matrix(), s.p);
-  hit.ng = unitVector(affineNormal(xf.inverseMatrix(), s.n));
-  hit.ns = hit.ng;
-  if (std::fabs(dot(hit.ng, worldRay.d)) < kRefineBelowCosine * length(worldRay.d)) {
-    double t = refineHitT(shape, xf, worldRay, shift, hit.t, oh.part);
+  const ObjectSurface s = surfaceOf(shape, ray, oh, uv);
+  double t = oh.t + shift;
+  const Vec3 p = affinePoint(xf.matrix(), s.p);
+  const Vec3 ng = unitVector(affineNormal(xf.inverseMatrix(), s.n));
+  if (std::fabs(dot(ng, worldRay.d)) < kRefineBelowCosine * length(worldRay.d)) {
+    const double refined = refineHitT(shape, xf, worldRay, shift, t, oh.part);
     // The refined t decides against tMax (exclusive), so a query bounded by
     // an earlier refined hit of this shape (a backend visiting it twice)
     // does not accept the same point again with its unrefined t. Below
     // tMin the double t stands: the ray may start on the surface.
-    if (!(t < tMax)) return false;
-    if (t > worldRay.tMin) hit.t = t;
+    if (!(refined < tMax)) return false;
+    if (refined > worldRay.tMin) t = refined;
   }
+  hit.t = t;
+  hit.time = worldRay.time;
+  hit.entity = entityIndex;
+  hit.primitive = 0;
+  hit.pObject = s.p;
+  hit.p = p;
+  hit.ng = ng;
+  hit.ns = ng;
   hit.u = s.u;
   hit.v = s.v;
-  hit.pError = hitPointError(xf, s.p, hit.p, 1.0, kDoubleRoundoff, kAnalyticErrorFactor);
+  hit.pError = hitPointError(xf, s.p, p, 1.0, kDoubleRoundoff, kAnalyticErrorFactor);
   return true;
 }
 
@@ -354,10 +360,10 @@ namespace {
 /// shadow rays past a sphere end there.
 [[gnu::always_inline]] inline uint32_t sphereLanes(const Entity &entity,
                                                    const Ray *const (&rays)[4],
+                                                   lanes::RayLanes &w,
                                                    const double (&tMax)[4], lanes::RayLanes &r,
                                                    lanes::Lanes &shift, lanes::Lanes &t) {
   const auto &m = entity.worldFromObject.inverseMatrix().m;
-  lanes::RayLanes w;
   lanes::loadRays(rays, w);
   // objectRay: affinePoint and affineVector.
   r.ox = m[0][0] * w.ox + m[0][1] * w.oy + m[0][2] * w.oz + m[0][3];
@@ -379,22 +385,84 @@ namespace {
 uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
                                    const Ray *const (&rays)[4], const double (&tMax)[4],
                                    uint32_t open, Hit *const (&hits)[4]) {
-  // The hit's t in lanes, then fillAnalytic's scalar code for each lane
-  // that hits.
+  // The hit's t in lanes, then fillAnalytic's steps for the four lanes in
+  // lanes too, each operation the scalar code's in its order (the same
+  // bits): Sphere::surface, the world point, the unit normal, the grazing
+  // test and the error bound. A grazing lane (refined in long double) or
+  // one at the centre takes fillAnalytic itself.
   const Sphere &sphere = *std::get_if<Sphere>(&entity.shape);
-  lanes::RayLanes r;
-  lanes::Lanes shift, t;
+  using lanes::Lanes;
+  using lanes::Mask;
+  lanes::RayLanes w, r;
+  Lanes shift, t;
+  const uint32_t hitting = sphereLanes(entity, rays, w, tMax, r, shift, t) & open;
+  if (hitting == 0) return 0;
+  // Sphere::surface: o + d t snapped onto the sphere.
+  const Lanes px = r.ox + r.dx * t, py = r.oy + r.dy * t, pz = r.oz + r.dz * t;
+  Lanes len = px * px + py * py + pz * pz;
+  lanes::sqrtInPlace(len);
+  const Lanes sx = px / len, sy = py / len, sz = pz / len;
+  // affinePoint and unitVector(affineNormal).
+  const auto &m = entity.worldFromObject.matrix().m;
+  const auto &inv = entity.worldFromObject.inverseMatrix().m;
+  const Lanes wx = m[0][0] * sx + m[0][1] * sy + m[0][2] * sz + m[0][3];
+  const Lanes wy = m[1][0] * sx + m[1][1] * sy + m[1][2] * sz + m[1][3];
+  const Lanes wz = m[2][0] * sx + m[2][1] * sy + m[2][2] * sz + m[2][3];
+  const Lanes nx = inv[0][0] * sx + inv[1][0] * sy + inv[2][0] * sz;
+  const Lanes ny = inv[0][1] * sx + inv[1][1] * sy + inv[2][1] * sz;
+  const Lanes nz = inv[0][2] * sx + inv[1][2] * sy + inv[2][2] * sz;
+  Lanes nLen = nx * nx + ny * ny + nz * nz;
+  lanes::sqrtInPlace(nLen);
+  const Lanes unit = 1 / nLen;
+  const Lanes gx = nx * unit, gy = ny * unit, gz = nz * unit;
+  // The grazing test: |ng . d| < kRefineBelowCosine |d|.
+  Lanes cosine = gx * w.dx + gy * w.dy + gz * w.dz, dLen = w.dx * w.dx + w.dy * w.dy + w.dz * w.dz;
+  lanes::clearSigns(cosine);
+  lanes::sqrtInPlace(dLen);
+  const Mask scalar = (cosine < kRefineBelowCosine * dLen) | !(len > 0);
+  // hitPointError: the magnitudes, std::max(a, b) as a < b ? b : a.
+  auto maxAbs = [](Lanes a, Lanes b, Lanes c) {
+    lanes::clearSigns(a);
+    lanes::clearSigns(b);
+    lanes::clearSigns(c);
+    const Lanes bc = b < c ? c : b;
+    return a < bc ? bc : a;
+  };
+  const Lanes objectMagnitude = maxAbs(sx, sy, sz), worldMagnitude = maxAbs(wx, wy, wz);
+  const Transform &xf = entity.worldFromObject;
+  const double ke = kAnalyticErrorFactor * kDoubleRoundoff;
+  const Lanes eObject = ke * (objectMagnitude + 1.0 + xf.inverseLinearNorm() * worldMagnitude +
+                              xf.inverseTranslationNorm());
+  const Lanes pError = eObject * xf.linearNorm() + ke * (worldMagnitude + xf.translationNorm());
+  const Lanes hitT = t + shift;
   uint32_t found = 0;
-  for (uint32_t left = sphereLanes(entity, rays, tMax, r, shift, t) & open; left != 0;
-       left &= left - 1) {
+  for (uint32_t left = hitting; left != 0; left &= left - 1) {
     const int k = std::countr_zero(left);
-    const Ray ray{{r.ox[k], r.oy[k], r.oz[k]}, {r.dx[k], r.dy[k], r.dz[k]}, r.tMin[k], r.tMax[k],
-                  rays[k]->time};
-    Hit hit;
-    if (!fillAnalytic(sphere, entity.worldFromObject, entityIndex, *rays[k], tMax[k],
-                      entity.readsUv, ray, shift[k], ObjectHit{t[k], 0}, hit))
+    if (scalar[k]) {
+      const Ray ray{{r.ox[k], r.oy[k], r.oz[k]}, {r.dx[k], r.dy[k], r.dz[k]}, r.tMin[k],
+                    r.tMax[k], rays[k]->time};
+      // Into the caller's hit directly: fillAnalytic leaves it alone on a miss.
+      if (fillAnalytic(sphere, xf, entityIndex, *rays[k], tMax[k], entity.readsUv, ray,
+                       shift[k], ObjectHit{t[k], 0}, *hits[k]))
+        found |= 1u << k;
       continue;
-    *hits[k] = hit;
+    }
+    Hit &hit = *hits[k];
+    hit.t = hitT[k];
+    hit.time = rays[k]->time;
+    hit.entity = entityIndex;
+    hit.primitive = 0;
+    hit.pObject = {sx[k], sy[k], sz[k]};
+    hit.p = {wx[k], wy[k], wz[k]};
+    hit.ng = {gx[k], gy[k], gz[k]};
+    hit.ns = hit.ng;
+    if (entity.readsUv) {
+      hit.u = sphereU(sx[k], sz[k]);
+      hit.v = sphereV(sy[k]);
+    } else {
+      hit.u = hit.v = 0;
+    }
+    hit.pError = pError[k];
     found |= 1u << k;
   }
   return found;
@@ -402,9 +470,9 @@ uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
 
 uint32_t occludedStillSphereLanes(const Entity &entity, const Ray *const (&rays)[4],
                                   const double (&tMax)[4]) {
-  lanes::RayLanes r;
+  lanes::RayLanes w, r;
   lanes::Lanes shift, t;
-  return sphereLanes(entity, rays, tMax, r, shift, t);
+  return sphereLanes(entity, rays, w, tMax, r, shift, t);
 }
 
 int shapeSpans(const Entity &entity, const Ray &worldRay, Span *out, double &shift) {

@@ -32,8 +32,8 @@ ObjectSurface Sphere::surface(const Ray &ray, const ObjectHit &hit, bool uv) con
   s.p = p;
   s.n = p;
   if (!uv) return s;
-  s.u = (std::atan2(p.z, p.x) + kPi) / (2 * kPi);
-  s.v = (p.y + 1) / 2;
+  s.u = sphereU(p.x, p.z);
+  s.v = sphereV(p.y);
   return s;
 }
 

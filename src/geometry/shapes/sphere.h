@@ -6,6 +6,9 @@
 #include "math/bounds.h"
 #include "geometry/shapes/object_space.h"
 #include "math/transform.h"
+#include "math/constants.h"
+
+#include <cmath>
 
 namespace lray {
 
@@ -32,6 +35,11 @@ struct Sphere {
   ObjectSurface surface(const Ray &ray, const ObjectHit &hit, bool uv = true) const;
   std::optional<Wide> refine(const WideRay &ray, Wide s, Wide shift, int part) const;
 };
+
+/// The uv of a point (x, y, z) of the unit sphere (the header's mapping):
+/// Sphere::surface's, and the four-lane fill's (geometry/shape.cpp).
+inline double sphereU(double x, double z) { return (std::atan2(z, x) + kPi) / (2 * kPi); }
+inline double sphereV(double y) { return (y + 1) / 2; }
 
 namespace sphere_detail {
 

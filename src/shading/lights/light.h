@@ -51,7 +51,10 @@ struct Light {
           cellZ_(light.worldFromLight.applyVector({0, 0, 1.0 / light.rows})),
           weightedColor_(light.color / (static_cast<double>(light.rows) * light.cols)),
           rows_(light.rows), cols_(light.cols), area_(light.area),
-          emits_(light.rows > 0 && light.cols > 0 && !light.color.isBlack()) {}
+          point_(light.rows == 1 && light.cols == 1 && !light.area),
+          emits_(light.rows > 0 && light.cols > 0 && !light.color.isBlack()) {
+      if (point_) pointTarget_ = at(0.5, 0.5); // place's (a, b) of cell (0, 0)
+    }
 
     /// A black or empty light can never add anything: the integrator drops it.
     bool emits() const { return emits_; }
@@ -63,9 +66,14 @@ struct Light {
     /// Sample k (cell row k / cols, column k % cols): its jitter, for area
     /// lights, drawn from `random` (x then z); the colour is colour / cells.
     LightSample sample(int k, const Vec3 &, lray::Sampler &random) const {
+      // A point light's one cell: its centre, the same point every time.
+      if (point_) [[likely]] {
+        if (!motion_) return {pointTarget_, weightedColor_};
+        return {pointTarget_ + motion_->at(random.time), weightedColor_};
+      }
       double a, b;
       place(k / cols_, k % cols_, random, a, b);
-      const Vec3 target = corner_ + cellX_ * a + cellZ_ * b;
+      const Vec3 target = at(a, b);
       if (!motion_) return {target, weightedColor_};
       return {target + motion_->at(random.time), weightedColor_};
     }
@@ -90,12 +98,18 @@ struct Light {
     void setMotion(const LightMotion *motion) { motion_ = motion; }
 
   private:
+    /// The point at place (a, b), in cells along cellX and cellZ (place).
+    Vec3 at(double a, double b) const { return corner_ + cellX_ * a + cellZ_ * b; }
+
     Vec3 corner_; ///< world position of local (-0.5, 0, -0.5)
     Vec3 cellX_;  ///< world step of one cell along local x (length / cols)
     Vec3 cellZ_;  ///< world step of one cell along local z (length / rows)
     Color weightedColor_;
     int rows_, cols_;
-    bool area_, emits_;
+    bool area_;
+    bool point_; ///< one cell, not jittered: a point light (pointTarget_)
+    bool emits_;
+    Vec3 pointTarget_; ///< a point light's sample: at(0.5, 0.5)
     const LightMotion *motion_ = nullptr;
   };
 };

@@ -82,7 +82,7 @@ void Integrator<Accel>::surfaceAt(const Ray &ray, const Hit &hit, Surface &s) co
   s.n = s.entering ? hit.ns : -hit.ns;
   s.dir = normalize(ray.d);
   s.v = -s.dir;
-  s.pigment = evaluatePigment(pigmentTable_, s.m->pigment, hit);
+  s.pigment = pigmentAt(pigmentTable_, s.m->pigment, hit);
 }
 
 template <class Accel>
@@ -473,7 +473,11 @@ void Integrator<Accel>::shadeTile(const Ray *rays, const Hit *hits, const uint8_
     Color c = s.pigment * s.m->finish.ambient;
     if (s.m->emits && s.entering) c += s.m->finish.emission;
     if (s.m->lit) c += lightSum[i];
-    out[i] = addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts);
+    // addSecondary returns c itself for a surface without secondary rays:
+    // most, spared the call (its colour goes by the stack both ways).
+    out[i] = s.m->reflects || s.m->refracts
+                 ? addSecondary(hits[i], s, c, 0, 1.0, samplers[i], counts)
+                 : c;
   }
 }
 

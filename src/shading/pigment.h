@@ -5,3 +5,17 @@
 
 #include "scene/scene.h"
 #include "shading/pigments/pigment_context.h"
+
+namespace lray {
+
+/// evaluatePigment, with a solid colour (ColorPigment: a floor's, a plain
+/// sphere's, most surfaces') read here, without the call and the pattern's
+/// dispatch: the same colour.
+inline Color pigmentAt(const PigmentTable &table, uint32_t index, const Hit &hit) {
+  if (index < table.count)
+    if (const auto *solid = std::get_if<ColorPigment>(&table.pigments[index].pattern))
+      return solid->color;
+  return evaluatePigment(table, index, hit);
+}
+
+} // namespace lray

@@ -168,10 +168,11 @@ struct EmbreeCallbacks {
                                    static_cast<double>(RTCRayN_tfar(rays, n, i)));
       if (moving && moving->misses(shape.index, r, tMax)) continue;
       if (shape.stillSphere && shape.sphereBound.missesLine(r)) continue;
-      Hit h;
+      // Into the ray's hit directly (intersectShape writes it only on a
+      // hit): a local copied there whole went through the stack.
+      Hit &h = ctx->hits[id];
       if (!intersectShape(*shape.entity, shape.index, r, tMax, h)) continue;
       ctx->bestT[id] = h.t;
-      ctx->hits[id] = h;
       RTCRayN_tfar(rays, n, i) = roundUp(h.t);
       setHit(hits, n, i, static_cast<float>(h.ng.x), static_cast<float>(h.ng.y),
              static_cast<float>(h.ng.z), static_cast<float>(h.u), static_cast<float>(h.v),

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <set>
 
@@ -51,6 +52,24 @@ TEST(SparseCentres, AFlatTileTracesOneCentreInFour) {
       EXPECT_EQ(sparse.traced(x, y), x % 2 == 0 && y % 2 == 0) << x << "," << y;
       EXPECT_EQ(sparse.colour(x, y), grey);
     }
+}
+
+TEST(SparseCentres, AFlatTileAtThresholdZeroTracesEveryCentre) {
+  // Alike neighbours fill a pixel only below a positive limit: at
+  // threshold 0 (limit 0) nothing is filled, a plain tile neither.
+  SparseCentres sparse;
+  // Every pixel of the tile, and the even ones of the row and column past.
+  EXPECT_EQ(runTile(sparse, [](int, int) { return Color(0.3, 0.5, 0.7); }, 0), 16 * 16 + 17);
+}
+
+TEST(SparseCentres, ZerosOfEitherSignAreOneColour) {
+  // Neighbours equal in value, not in bits (0 and -0): still no contrast,
+  // every pixel between them filled, with its first known neighbour's.
+  SparseCentres sparse;
+  auto f = [](int x, int y) { return (x + y) % 4 == 0 ? Color(-0.0, 0, 0) : Color(0, 0, 0); };
+  EXPECT_EQ(runTile(sparse, f, 0.1), 81);
+  EXPECT_TRUE(std::signbit(sparse.colour(1, 1).r)); // its diagonal (0, 0) holds -0
+  EXPECT_FALSE(std::signbit(sparse.colour(3, 1).r)); // (2, 0) holds +0
 }
 
 TEST(SparseCentres, AStraightEdgeIsTracedAlongItsLengthAndNothingIsFilledWrong) {

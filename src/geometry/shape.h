@@ -26,9 +26,10 @@ bool shapeBounded(const Entity &entity);
 /// Closest intersection of a world-space ray with an analytic entity, with t
 /// in (ray.tMin, tMax), the entity placed where it is at the ray's time.
 /// On success fills every field of `hit` (entity = entityIndex) and returns
-/// true; otherwise leaves `hit` as it was (a caller may pass its best hit). The bound is its own argument (usually below ray.tMax: the nearest
-/// hit so far) so that callers need not copy the ray to lower it: the
-/// test's reads of a copy just written in other pieces stalled on store
+/// true; otherwise leaves `hit` as it was (a caller may pass its best hit).
+/// The bound is its own argument (usually below ray.tMax: the nearest hit
+/// so far) so that callers need not copy the ray to lower it: the test's
+/// reads of a copy just written in other pieces stalled on store
 /// forwarding.
 bool intersectShape(const Entity &entity, uint32_t entityIndex, const Ray &worldRay, double tMax,
                     Hit &hit);

@@ -420,15 +420,10 @@ uint32_t intersectStillSphereLanes(const Entity &entity, uint32_t entityIndex,
   lanes::clearSigns(cosine);
   lanes::sqrtInPlace(dLen);
   const Mask scalar = (cosine < kRefineBelowCosine * dLen) | !(len > 0);
-  // hitPointError: the magnitudes, std::max(a, b) as a < b ? b : a.
-  auto maxAbs = [](Lanes a, Lanes b, Lanes c) {
-    lanes::clearSigns(a);
-    lanes::clearSigns(b);
-    lanes::clearSigns(c);
-    const Lanes bc = b < c ? c : b;
-    return a < bc ? bc : a;
-  };
-  const Lanes objectMagnitude = maxAbs(sx, sy, sz), worldMagnitude = maxAbs(wx, wy, wz);
+  // hitPointError's magnitudes.
+  Lanes objectMagnitude, worldMagnitude;
+  lanes::maxAbsComponent(sx, sy, sz, objectMagnitude);
+  lanes::maxAbsComponent(wx, wy, wz, worldMagnitude);
   const Transform &xf = entity.worldFromObject;
   const double ke = kAnalyticErrorFactor * kDoubleRoundoff;
   const Lanes eObject = ke * (objectMagnitude + 1.0 + xf.inverseLinearNorm() * worldMagnitude +

@@ -46,15 +46,12 @@ struct Lanes3 {
 [[gnu::always_inline]] inline Lanes3 select(Mask m, const Lanes3 &a, const Lanes3 &b) {
   return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
 }
-/// std::fabs: the sign bit cleared (a compare would keep -0).
-[[gnu::always_inline]] inline Lanes absLanes(Lanes v) {
-  lanes::clearSigns(v);
-  return v;
-}
 /// std::max(a, b) = a < b ? b : a.
 [[gnu::always_inline]] inline Lanes maxLanes(Lanes a, Lanes b) { return a < b ? b : a; }
 [[gnu::always_inline]] inline Lanes maxAbsComponent(const Lanes3 &v) {
-  return maxLanes(absLanes(v.x), maxLanes(absLanes(v.y), absLanes(v.z)));
+  Lanes out;
+  lanes::maxAbsComponent(v.x, v.y, v.z, out);
+  return out;
 }
 /// std::sqrt lane-wise (lanes::sqrtInPlace).
 [[gnu::always_inline]] inline Lanes sqrtLanes(Lanes v) {
@@ -257,19 +254,22 @@ bool oneTriangle(const TriangleHitQuery *const *queries, int count) {
   return true;
 }
 
-void fillLanesBaseline(const TriangleHitQuery *const *queries, int count) {
+/// fillLanes, reading the corners once where every query hit one triangle.
+[[gnu::always_inline]] inline void fillLanesOf(const TriangleHitQuery *const *queries,
+                                               int count) {
   if (oneTriangle(queries, count))
     fillLanes<true>(queries, count);
   else
     fillLanes<false>(queries, count);
 }
 
+void fillLanesBaseline(const TriangleHitQuery *const *queries, int count) {
+  fillLanesOf(queries, count);
+}
+
 __attribute__((target("avx2"))) void fillLanesAvx2(const TriangleHitQuery *const *queries,
                                                    int count) {
-  if (oneTriangle(queries, count))
-    fillLanes<true>(queries, count);
-  else
-    fillLanes<false>(queries, count);
+  fillLanesOf(queries, count);
 }
 
 } // namespace

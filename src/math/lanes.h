@@ -71,4 +71,16 @@ using Mask = int64_t __attribute__((vector_size(kWidth * sizeof(int64_t))));
 #endif
 }
 
+/// error_bound.h's maxAbsComponent of (x, y, z), lane by lane:
+/// std::max(|x|, std::max(|y|, |z|)), std::max(a, b) being a < b ? b : a.
+[[gnu::always_inline]] inline void maxAbsComponent(const Lanes &x, const Lanes &y,
+                                                   const Lanes &z, Lanes &out) {
+  Lanes ax = x, ay = y, az = z;
+  clearSigns(ax);
+  clearSigns(ay);
+  clearSigns(az);
+  const Lanes yz = ay < az ? az : ay;
+  out = ax < yz ? yz : ax;
+}
+
 } // namespace lray::lanes

@@ -244,6 +244,7 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
   // The positions' scramble seed: for Sobol positions and the path
   // tracer's stratified choices, not for a pass of pixel centres.
   const bool usesPattern = !centres || settings.integrator == IntegratorKind::Path;
+  const bool pinhole = !camera.hasLens() && !camera.timed();
   rect.forEachPixel([&](size_t i, int x, int y) {
     work.sums[i] = Color();
     work.squares[i] = Color();
@@ -308,7 +309,6 @@ void sampleTile(const Accel &accel, const Integ &integrator, const CameraRays &c
         owenSobol2DLanes(reversedS, scrambles.rows(), lanes, u, v);
       }
       // A pinhole's rays for the lanes at once, where they fit the batch.
-      const bool pinhole = !camera.hasLens() && !camera.timed();
       const bool together = pinhole && rays + lanes <= tile_detail::kTilePixels;
       if (together) {
         for (size_t l = 0; l < lanes; ++l) {
